@@ -1,0 +1,22 @@
+# Finds tessera's Debian 12 dependencies through their CMake config packages and works around
+# the packaging pitfalls recorded in shared/spec/images-and-deps.md.
+find_package(glm CONFIG REQUIRED)
+find_package(TBB CONFIG REQUIRED)
+find_package(OpenImageIO CONFIG REQUIRED)
+# Debian's OpenImageIO target lists /usr/include/opencv4, which only exists with
+# libopencv-core-dev installed; CMake refuses non-existent include paths at generate time.
+foreach(_prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
+  get_target_property(_dirs OpenImageIO::OpenImageIO ${_prop})
+  if(_dirs)
+    list(FILTER _dirs EXCLUDE REGEX "opencv4")
+    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${_prop} "${_dirs}")
+  endif()
+endforeach()
+find_package(TinyGLTF CONFIG REQUIRED)   # target TinyGLTF::TinyGLTF (shared library on Debian)
+find_package(nlohmann_json CONFIG REQUIRED)
+if(TESSERA_BUILD_TESTS)
+  find_package(doctest CONFIG REQUIRED)
+endif()
+if(TESSERA_BUILD_BENCH)
+  find_package(benchmark CONFIG REQUIRED)
+endif()

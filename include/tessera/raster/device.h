@@ -1,0 +1,78 @@
+// The immediate context: draw() runs vertex shading, setup, binning and tile-parallel
+// rasterization of one draw, in that order, and returns when every target is written.
+// Determinism: tiles own disjoint pixels and process their triangles in submission order,
+// so the bytes of every buffer are independent of thread count and scheduling.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include <tbb/task_arena.h>
+
+#include <tessera/raster/draw_state.h>
+#include <tessera/raster/occlusion_query.h>
+#include <tessera/raster/triangle_setup.h>
+#include <tessera/shaders/shader_stages.h>
+
+namespace tessera {
+
+struct DeviceConfig {
+    std::uint32_t tileSize = 64;  // px, even, 8..1024: the unit of parallel work
+    std::uint32_t threads = 0;    // worker threads; 0 = all hardware threads (TBB default)
+};
+
+// Counters of one draw (and, summed, of a frame) for --stats.
+struct DrawStats {
+    SetupStats setup;
+    std::uint64_t binnedTileTriangles = 0;  // sum over tiles of triangles binned there
+    std::uint64_t quads = 0;                // 2x2 quads with at least one covered sample
+    std::uint64_t psInvocations = 0;        // pixel (or sample) shader calls, helpers excluded
+    std::uint64_t samplesPassed = 0;        // samples passing depth/stencil, not discarded
+    DrawStats& operator+=(const DrawStats& o);
+};
+
+// The validated facts about a draw's targets.
+struct DrawTargets {
+    std::uint32_t width = 0, height = 0, sampleCount = 1;
+    PixelRect rect;  // pixels that may be written: the target, ∩ scissor when enabled
+};
+
+// Throws std::invalid_argument naming the problem for invalid state combinations: no target
+// bound, mismatched target sizes or sample counts, a depth format bound as colour or the
+// reverse, a viewport outside D3D11's bounds, NaN or empty, MinDepth/MaxDepth outside [0,1]
+// or crossed, dual-source blend factors, *_COLOR factors in the alpha blend, blending on an
+// integer target, alpha-to-coverage, a tile size that is odd or outside 8..1024.
+DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, std::uint32_t tileSize);
+
+class Device {
+public:
+    explicit Device(DeviceConfig config = {});
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    const DeviceConfig& config() const { return mConfig; }
+
+    // Draws a triangle list. With `indices` empty, vertices are taken three at a time;
+    // otherwise indices (three per triangle) select them. An index past the vertex count
+    // fetches a value-initialised Vertex{} (D3D11: out-of-range vertex fetches return 0).
+    template <class Vertex, class VS, PixelShaderOrNone PS>
+        requires VertexShaderFor<VS, Vertex>
+    DrawStats draw(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
+                   std::span<const std::uint32_t> indices, const VS& vs, const PS& ps,
+                   OcclusionQuery* query = nullptr);
+
+    // Runs f inside this device's thread arena (so that its parallel loops use the
+    // configured thread count). Used by draw() and by compute dispatches.
+    template <class F>
+    void execute(F&& f);
+
+private:
+    DeviceConfig mConfig;
+    std::unique_ptr<tbb::task_arena> mArena;
+};
+
+} // namespace tessera
+
+#include <tessera/raster/detail/draw_impl.h>

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages tessera needs (build, tests, benchmarks, llvmpipe peer).
+# Used by both README commands and by .ci/run. Installs only what is missing; runs apt-get
+# as root or through sudo. Set TESSERA_DEPS_EXTRA="clang-14 ..." to add more packages.
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  libglm-dev libopenimageio-dev openimageio-tools libtbb-dev
+  libtinygltf-dev nlohmann-json3-dev libstb-dev doctest-dev libbenchmark-dev
+  # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
+  libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+)
+# shellcheck disable=SC2206
+packages+=(${TESSERA_DEPS_EXTRA:-})
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then sudo=""; elif command -v sudo >/dev/null; then sudo="sudo"; else
+  echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

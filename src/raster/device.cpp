@@ -1,0 +1,135 @@
+// Device construction (its TBB arena), draw validation and triangle binning: the parts of
+// a draw that do not depend on the shader types.
+#include <tessera/raster/device.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace tessera {
+
+DrawStats& DrawStats::operator+=(const DrawStats& o) {
+    setup.trianglesIn += o.setup.trianglesIn;
+    setup.culledFacing += o.setup.culledFacing;
+    setup.culledDegenerate += o.setup.culledDegenerate;
+    setup.culledNonFinite += o.setup.culledNonFinite;
+    setup.clipped += o.setup.clipped;
+    setup.trianglesOut += o.setup.trianglesOut;
+    binnedTileTriangles += o.binnedTileTriangles;
+    quads += o.quads;
+    psInvocations += o.psInvocations;
+    samplesPassed += o.samplesPassed;
+    return *this;
+}
+
+Device::Device(DeviceConfig config) : mConfig(config) {
+    if (config.tileSize < 8 || config.tileSize > 1024 || config.tileSize % 2 != 0)
+        throw std::invalid_argument("tile size " + std::to_string(config.tileSize) + " px must be even and in 8..1024");
+    mArena = config.threads == 0 ? std::make_unique<tbb::task_arena>()
+                                 : std::make_unique<tbb::task_arena>(int(config.threads));
+}
+
+Device::~Device() = default;
+
+namespace {
+[[noreturn]] void invalid(const std::string& what) { throw std::invalid_argument("draw: " + what); }
+
+bool isColorFactor(Blend b) {
+    return b == Blend::SrcColor || b == Blend::InvSrcColor || b == Blend::DestColor || b == Blend::InvDestColor ||
+           b == Blend::Src1Color || b == Blend::InvSrc1Color;
+}
+bool isDualSource(Blend b) {
+    return b == Blend::Src1Color || b == Blend::InvSrc1Color || b == Blend::Src1Alpha || b == Blend::InvSrc1Alpha;
+}
+} // namespace
+
+DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, std::uint32_t tileSize) {
+    if (tileSize < 8 || tileSize > 1024 || tileSize % 2 != 0) invalid("tile size " + std::to_string(tileSize));
+    DrawTargets dt;
+    const Surface* first = nullptr;
+    auto check = [&](const Surface* s, const std::string& slot) {
+        if (!s) return;
+        if (!first) {
+            first = s;
+            dt.width = s->width();
+            dt.height = s->height();
+            dt.sampleCount = s->sampleCount();
+        } else if (s->width() != dt.width || s->height() != dt.height || s->sampleCount() != dt.sampleCount) {
+            invalid(slot + " is " + std::to_string(s->width()) + "x" + std::to_string(s->height()) + "x" +
+                    std::to_string(s->sampleCount()) + " samples, other targets are " + std::to_string(dt.width) + "x" +
+                    std::to_string(dt.height) + "x" + std::to_string(dt.sampleCount));
+        }
+    };
+    for (int i = 0; i < kMaxRenderTargets; ++i) {
+        const Surface* s = targets.colors[std::size_t(i)];
+        if (s && isDepthFormat(s->format()))
+            invalid("render target " + std::to_string(i) + " has depth format " + std::string(formatInfo(s->format()).name));
+        check(s, "render target " + std::to_string(i));
+    }
+    if (targets.depthStencil && !isDepthFormat(targets.depthStencil->format()))
+        invalid("depth-stencil target has colour format " + std::string(formatInfo(targets.depthStencil->format()).name));
+    check(targets.depthStencil, "depth-stencil target");
+    if (!first) invalid("no render target or depth-stencil target bound");
+
+    const Viewport& vp = state.viewport;
+    auto finite = [](float v) { return std::isfinite(v); };
+    if (!finite(vp.topLeftX) || !finite(vp.topLeftY) || !finite(vp.width) || !finite(vp.height) || !finite(vp.minDepth) ||
+        !finite(vp.maxDepth))
+        invalid("viewport has a non-finite value");
+    if (!(vp.width > 0.0f) || !(vp.height > 0.0f))
+        invalid("viewport size " + std::to_string(vp.width) + "x" + std::to_string(vp.height) + " is empty");
+    if (vp.topLeftX < kViewportBoundsMin || vp.topLeftY < kViewportBoundsMin || vp.topLeftX + vp.width > kViewportBoundsMax ||
+        vp.topLeftY + vp.height > kViewportBoundsMax)
+        invalid("viewport lies outside D3D11_VIEWPORT_BOUNDS [-32768, 32767]");
+    if (vp.minDepth < 0.0f || vp.maxDepth > 1.0f || vp.minDepth > vp.maxDepth)
+        invalid("viewport depth range [" + std::to_string(vp.minDepth) + ", " + std::to_string(vp.maxDepth) +
+                "] must satisfy 0 <= MinDepth <= MaxDepth <= 1");
+
+    if (state.blend.alphaToCoverageEnable) invalid("AlphaToCoverageEnable is not supported");
+    for (int i = 0; i < kMaxRenderTargets; ++i) {
+        const RenderTargetBlendDesc& b = state.blend.renderTarget[state.blend.independentBlendEnable ? std::size_t(i) : 0];
+        const Surface* s = targets.colors[std::size_t(i)];
+        if (!b.blendEnable || !s) continue;
+        const std::string slot = "render target " + std::to_string(i);
+        if (isDualSource(b.srcBlend) || isDualSource(b.destBlend) || isDualSource(b.srcBlendAlpha) || isDualSource(b.destBlendAlpha))
+            invalid(slot + ": dual-source blend factors (SRC1_*) are not supported");
+        if (isColorFactor(b.srcBlendAlpha) || isColorFactor(b.destBlendAlpha))
+            invalid(slot + ": *_COLOR factors are not allowed in the alpha blend (D3D11_RENDER_TARGET_BLEND_DESC)");
+        if (formatInfo(s->format()).kind == FormatKind::Uint)
+            invalid(slot + ": blending is not allowed on integer format " + std::string(formatInfo(s->format()).name));
+    }
+
+    dt.rect = PixelRect{0, 0, std::int32_t(dt.width), std::int32_t(dt.height)};
+    if (state.rasterizer.scissorEnable) {
+        const ScissorRect& sc = state.scissor;
+        dt.rect.minX = std::max(dt.rect.minX, sc.left);
+        dt.rect.minY = std::max(dt.rect.minY, sc.top);
+        dt.rect.maxX = std::min(dt.rect.maxX, sc.right);
+        dt.rect.maxY = std::min(dt.rect.maxY, sc.bottom);
+    }
+    return dt;
+}
+
+namespace detail {
+
+TileBins binTriangles(const std::vector<SetupTriangle>& tris, std::uint32_t width, std::uint32_t height,
+                      std::uint32_t tileSize) {
+    TileBins bins;
+    bins.tileSize = tileSize;
+    bins.tilesX = (width + tileSize - 1) / tileSize;
+    bins.tilesY = (height + tileSize - 1) / tileSize;
+    bins.lists.resize(std::size_t(bins.tilesX) * bins.tilesY);
+    const std::int32_t ts = std::int32_t(tileSize);
+    for (std::uint32_t id = 0; id < tris.size(); ++id) {
+        const PixelRect& b = tris[id].bounds;
+        const std::int32_t tx0 = b.minX / ts, ty0 = b.minY / ts;
+        const std::int32_t tx1 = (b.maxX - 1) / ts, ty1 = (b.maxY - 1) / ts;
+        for (std::int32_t ty = ty0; ty <= ty1; ++ty)
+            for (std::int32_t tx = tx0; tx <= tx1; ++tx)
+                bins.lists[std::size_t(ty) * bins.tilesX + std::size_t(tx)].push_back(id);
+    }
+    return bins;
+}
+
+} // namespace detail
+} // namespace tessera

@@ -1,0 +1,54 @@
+// Shared test scaffolding: a clip-space vertex with a colour, pass-through shaders, and a
+// one-call way to draw triangle lists with a given state into given targets.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <tessera/raster/device.h>
+
+namespace tessera::test {
+
+struct ColorVertex {
+    glm::vec4 posClip{0, 0, 0, 1};
+    glm::vec4 color{1, 1, 1, 1};
+};
+
+struct ColorVaryings {
+    glm::vec4 color;
+};
+
+struct PassThroughVS {
+    using Varyings = ColorVaryings;
+    VertexOutput<ColorVaryings> operator()(const ColorVertex& v) const { return {v.posClip, {v.color}}; }
+};
+
+// Writes the interpolated colour to target 0.
+struct ColorPS {
+    using Varyings = ColorVaryings;
+    static constexpr int kTargetCount = 1;
+    void operator()(const PixelInput<ColorVaryings>& in, PixelOutput<1>& out) const { out.target[0] = in.varyings.color; }
+};
+
+// Window position (px, D3D: origin top-left, y down) to clip space for a full-target
+// viewport of size w x h, with clip w = `clipW` and NDC depth z.
+inline glm::vec4 windowToClip(float xWin, float yWin, float w, float h, float z = 0.5f, float clipW = 1.0f) {
+    const float xNdc = xWin / w * 2.0f - 1.0f, yNdc = 1.0f - yWin / h * 2.0f;
+    return glm::vec4(xNdc * clipW, yNdc * clipW, z * clipW, clipW);
+}
+
+// An additive R32_FLOAT "coverage counter": each covered pixel sample gets +1 per triangle.
+inline DrawState countingState(const Surface& target) {
+    DrawState st;
+    st.rasterizer.cullMode = CullMode::None;
+    st.depthStencil.depthEnable = false;
+    st.blend.renderTarget[0] = kAdditiveBlend;
+    st.viewport = fullViewport(target);
+    return st;
+}
+
+} // namespace tessera::test
