@@ -212,13 +212,15 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, const std::vect
                         zSample[s] = clampDepth(depthAt(t, baryAt(t, X, Y)), vp.minDepth, vp.maxDepth);
                     }
                     // Shades, tests and writes the samples in `mask` with one shader result.
+                    // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
+                    // shader runs per sample (clamped to the viewport range like the samples).
                     auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
-                                              float xWin, float yWin) {
+                                              float xWin, float yWin, float zPs) {
                         [[maybe_unused]] PixelOutput<kTargets> out;
                         bool shaded = false;
                         auto shade = [&] {
                             if constexpr (kHasPs) {
-                                PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zSample[sampleIndex], posW), front,
+                                PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
                                                  pixelMask, sampleIndex};
                                 ps(in, out);
                                 ++counters.psInvocations;
@@ -272,12 +274,16 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, const std::vect
                             const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
                             float w = 0;
                             const V var = interpolate<V>(t, store, baryAt(t, X, Y), w);
-                            resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f);
+                            resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
                         }
                     } else if constexpr (kHasPs) {
-                        resolveSamples(pixelMask, 0, centre[p], centreW[p], float(px) + 0.5f, float(py) + 0.5f);
+                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf;
+                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf;
+                        const float zCentre = sampleCount == 1 ? zSample[0]
+                                                               : clampDepth(depthAt(t, baryAt(t, X, Y)), vp.minDepth, vp.maxDepth);
+                        resolveSamples(pixelMask, 0, centre[p], centreW[p], float(px) + 0.5f, float(py) + 0.5f, zCentre);
                     } else {
-                        resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f);
+                        resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
                     }
                 }
             }
