@@ -1,0 +1,21 @@
+// The built-in scene `tessera render` draws until the glTF scene loader lands: a lit ground
+// plane and cubes (opaque pass) and an alpha-blended pane (transparent pass), as a Frame.
+#pragma once
+
+#include <cstdint>
+
+#include <tessera/frame/frame.h>
+#include <tessera/raster/device.h>
+
+namespace tessera::cli {
+
+struct BuiltinSceneOptions {
+    std::uint32_t width = 640, height = 360;
+    std::uint32_t sampleCount = 1;
+};
+
+// Builds the frame's passes; buffers: "backbuffer" (RGBA8 sRGB-less UNORM, resolved when
+// MSAA), "depth" (D24S8), and with MSAA "backbuffer.msaa".
+Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& options, DrawStats& stats);
+
+} // namespace tessera::cli
