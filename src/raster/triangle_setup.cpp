@@ -42,6 +42,19 @@ struct ClipPlanes {
         }
     }
     bool enabled(int p) const { return p >= 2 || depthClip; }
+    // Puts an interpolated vertex exactly on plane p. With far-away vertices (|x| ~ 1e30)
+    // the interpolation cancels catastrophically; the plane equation is exact by definition.
+    void project(int p, glm::vec4& c) const {
+        switch (p) {
+        case 0: c.z = 0.0f; break;
+        case 1: c.z = c.w; break;
+        case 2: c.w = kMinClipW; break;
+        case 3: c.x = gx * c.w; break;
+        case 4: c.x = -gx * c.w; break;
+        case 5: c.y = gy * c.w; break;
+        default: c.y = -gy * c.w; break;
+        }
+    }
 };
 
 bool allFinite(const glm::vec4& v) {
@@ -67,6 +80,7 @@ int clipAgainst(const ClipPlanes& planes, int p, const ClipVertex* poly, int n, 
             const float t = dIn / (dIn - dOut);
             ClipVertex& nv = out[count++];
             nv.pos = in.pos + t * (outV.pos - in.pos);
+            planes.project(p, nv.pos);
             for (std::uint32_t k = 0; k < nf; ++k) nv.v[k] = in.v[k] + t * (outV.v[k] - in.v[k]);
         }
     }
