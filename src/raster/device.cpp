@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/info.h>
+
 namespace tessera {
 
 DrawStats& DrawStats::operator+=(const DrawStats& o) {
@@ -25,6 +27,9 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
 Device::Device(DeviceConfig config) : mConfig(config) {
     if (config.tileSize < 8 || config.tileSize > 1024 || config.tileSize % 2 != 0)
         throw std::invalid_argument("tile size " + std::to_string(config.tileSize) + " px must be even and in 8..1024");
+    if (config.threads > 256) throw std::invalid_argument("thread count " + std::to_string(config.threads) + " exceeds 256");
+    if (config.threads > std::uint32_t(tbb::info::default_concurrency()))
+        mWorkerLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, config.threads);
     mArena = config.threads == 0 ? std::make_unique<tbb::task_arena>()
                                  : std::make_unique<tbb::task_arena>(int(config.threads));
 }

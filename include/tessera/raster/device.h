@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <tessera/raster/draw_state.h>
@@ -19,7 +20,7 @@ namespace tessera {
 
 struct DeviceConfig {
     std::uint32_t tileSize = 64;  // px, even, 8..1024: the unit of parallel work
-    std::uint32_t threads = 0;    // worker threads; 0 = all hardware threads (TBB default)
+    std::uint32_t threads = 0;    // worker threads, 1..256; 0 = all hardware threads (TBB default)
 };
 
 // Counters of one draw (and, summed, of a frame) for --stats.
@@ -71,6 +72,9 @@ public:
 private:
     DeviceConfig mConfig;
     std::unique_ptr<tbb::task_arena> mArena;
+    // More threads than cores (e.g. the 7-thread determinism runs on 2 cores) need TBB's
+    // process-wide worker limit raised while this device lives.
+    std::unique_ptr<tbb::global_control> mWorkerLimit;
 };
 
 } // namespace tessera

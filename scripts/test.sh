@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# The whole test suite for a fresh Debian 12 clone: install what is missing, build with
+# -Werror (GCC), run ctest; then the same suite under AddressSanitizer + UBSan.
+# TESSERA_SKIP_SANITIZE=1 skips the sanitizer pass (for quick local runs).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+jobs=2   # CI machines have 2 cores
+
+cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DTESSERA_WERROR=ON
+cmake --build build-ci -j"$jobs"
+ctest --test-dir build-ci -j"$jobs" --output-on-failure
+
+if [ "${TESSERA_SKIP_SANITIZE:-0}" != 1 ]; then
+  # RelWithDebInfo keeps -O2 so the exhaustive conversion sweeps stay fast under ASan.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTESSERA_WERROR=ON \
+        -DTESSERA_SANITIZE=ON -DTESSERA_BUILD_BENCH=OFF
+  cmake --build build-asan -j"$jobs"
+  # llvmpipe's own JIT is not instrumented; its allocations are not ours to judge.
+  ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan -j"$jobs" --output-on-failure
+fi
