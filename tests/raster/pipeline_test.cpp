@@ -336,8 +336,8 @@ TEST_CASE("bad input: non-finite and degenerate triangles are dropped, invalid s
     mismatched.depthStencil = &other;
     CHECK(throwsMentioning([&] { drawList(dev, st, mismatched, one, ColorPS{}); }, "depth-stencil target is 8x16"));
     CHECK(throwsMentioning([&] { drawList(dev, st, RenderTargets{}, one, ColorPS{}); }, "no render target"));
-    CHECK(throwsMentioning([] { Surface s(SurfaceDesc{0, 4, Format::R32_FLOAT, 1}); }, "width 0"));
-    CHECK(throwsMentioning([] { Surface s(SurfaceDesc{4, 1000000000u, Format::R32_FLOAT, 1}); }, "height 1000000000"));
-    CHECK(throwsMentioning([] { Surface s(SurfaceDesc{4, 4, Format::R32_FLOAT, 3}); }, "sample count 3"));
+    CHECK(throwsMentioning([] { Surface invalidSurface(SurfaceDesc{0, 4, Format::R32_FLOAT, 1}); }, "width 0"));
+    CHECK(throwsMentioning([] { Surface invalidSurface(SurfaceDesc{4, 1000000000u, Format::R32_FLOAT, 1}); }, "height 1000000000"));
+    CHECK(throwsMentioning([] { Surface invalidSurface(SurfaceDesc{4, 4, Format::R32_FLOAT, 3}); }, "sample count 3"));
     CHECK(throwsMentioning([] { Device d(DeviceConfig{7, 1}); }, "tile size 7"));
 }
