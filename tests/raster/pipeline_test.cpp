@@ -341,3 +341,51 @@ TEST_CASE("bad input: non-finite and degenerate triangles are dropped, invalid s
     CHECK(throwsMentioning([] { Surface invalidSurface(SurfaceDesc{4, 4, Format::R32_FLOAT, 3}); }, "sample count 3"));
     CHECK(throwsMentioning([] { Device d(DeviceConfig{7, 1}); }, "tile size 7"));
 }
+
+TEST_CASE("x/y clipping beyond the guard band keeps edges where the unclipped triangle has them") {
+    // Triangles whose vertices lie 10^7 px away (beyond the 2^21 px guard band) go through
+    // the x/y clipper. Inside the viewport their edges must stay on the original lines:
+    // every pixel centre farther than 1/64 px from an edge is classified as the exact
+    // (double precision) triangle says. Clip vertices are at least 2^21 - 256 px away, so
+    // snapping them moves an edge inside the viewport by far less than that margin.
+    constexpr double kFar = 1e7;
+    Device dev(DeviceConfig{32, 2});
+    Surface target(SurfaceDesc{256, 256, Format::R32_FLOAT, 1});
+    const DrawState st = countingState(target);
+    RenderTargets rt;
+    rt.colors[0] = &target;
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> yr(20.0, 236.0);
+    int checked = 0, wrong = 0;
+    for (int n = 0; n < 20; ++n) {
+        target.clearColor(glm::vec4(0));
+        // Vertex window positions: far left and far right on a random line, and far below.
+        const double ya = yr(rng), yb = yr(rng);
+        const glm::dvec2 pWin[3] = {{-kFar, ya}, {kFar, yb}, {0.0, kFar}};
+        std::vector<ColorVertex> v;
+        glm::dvec2 used[3];
+        for (int i = 0; i < 3; ++i) {
+            const glm::vec4 c(float(pWin[i].x / 128.0 - 1.0), float(1.0 - pWin[i].y / 128.0), 0.5f, 1.0f);
+            v.push_back({c});
+            used[i] = {(double(c.x) + 1.0) * 128.0, (1.0 - double(c.y)) * 128.0};  // what the floats really say
+        }
+        drawList(dev, st, rt, v, ColorPS{});
+        for (std::uint32_t y = 0; y < 256; ++y)
+            for (std::uint32_t x = 0; x < 256; ++x) {
+                const glm::dvec2 p(x + 0.5, y + 0.5);
+                bool inside = true, nearEdge = false;
+                for (int i = 0; i < 3; ++i) {
+                    const glm::dvec2 a = used[(i + 1) % 3], b = used[(i + 2) % 3];
+                    const glm::dvec2 d = b - a;
+                    const double dist = (d.x * (p.y - a.y) - d.y * (p.x - a.x)) / glm::length(d);  // > 0 inside (clockwise)
+                    nearEdge |= std::fabs(dist) < 1.0 / 64.0;
+                    inside &= dist > 0.0;
+                }
+                if (nearEdge) continue;
+                ++checked;
+                wrong += (target.load(x, y).x == 1.0f) != inside;
+            }
+    }
+    CHECK(checked > 1000000);
+    CHECK(wrong == 0);
+}
