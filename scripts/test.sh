@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The whole test suite for a fresh Debian 12 clone: install what is missing, build with
-# -Werror (GCC), run ctest; then the same suite under AddressSanitizer + UBSan.
-# TESSERA_SKIP_SANITIZE=1 skips the sanitizer pass (for quick local runs).
+# -Werror (GCC), run ctest; then the same suite under AddressSanitizer + UBSan (GCC), and
+# a clang 14 -Werror build of everything with its tests.
+# TESSERA_SKIP_SANITIZE=1 / TESSERA_SKIP_CLANG=1 skip those passes (for quick local runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+TESSERA_DEPS_EXTRA="clang-14" bash scripts/install-deps.sh
 jobs=2   # CI machines have 2 cores
 
 cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DTESSERA_WERROR=ON
@@ -19,4 +20,11 @@ if [ "${TESSERA_SKIP_SANITIZE:-0}" != 1 ]; then
   # llvmpipe's own JIT is not instrumented; its allocations are not ours to judge.
   ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan -j"$jobs" --output-on-failure
+fi
+
+if [ "${TESSERA_SKIP_CLANG:-0}" != 1 ]; then
+  cmake -S . -B build-clang -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 \
+        -DTESSERA_WERROR=ON -DTESSERA_BUILD_BENCH=OFF
+  cmake --build build-clang -j"$jobs"
+  ctest --test-dir build-clang -j"$jobs" --output-on-failure
 fi
