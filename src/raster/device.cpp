@@ -2,6 +2,7 @@
 // a draw that do not depend on the shader types.
 #include <tessera/raster/device.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -117,22 +118,63 @@ DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, s
 
 namespace detail {
 
-TileBins binTriangles(const std::vector<SetupTriangle>& tris, std::uint32_t width, std::uint32_t height,
+TileBins binTriangles(const std::vector<SetupChunk>& chunks, std::uint32_t width, std::uint32_t height,
                       std::uint32_t tileSize) {
     TileBins bins;
     bins.tileSize = tileSize;
     bins.tilesX = (width + tileSize - 1) / tileSize;
     bins.tilesY = (height + tileSize - 1) / tileSize;
-    bins.lists.resize(std::size_t(bins.tilesX) * bins.tilesY);
+    const std::size_t nTiles = bins.tileCount();
     const std::int32_t ts = std::int32_t(tileSize);
-    for (std::uint32_t id = 0; id < tris.size(); ++id) {
-        const PixelRect& b = tris[id].bounds;
+    auto forEachTile = [&](const PixelRect& b, auto&& f) {
         const std::int32_t tx0 = b.minX / ts, ty0 = b.minY / ts;
         const std::int32_t tx1 = (b.maxX - 1) / ts, ty1 = (b.maxY - 1) / ts;
         for (std::int32_t ty = ty0; ty <= ty1; ++ty)
-            for (std::int32_t tx = tx0; tx <= tx1; ++tx)
-                bins.lists[std::size_t(ty) * bins.tilesX + std::size_t(tx)].push_back(id);
+            for (std::int32_t tx = tx0; tx <= tx1; ++tx) f(std::size_t(ty) * bins.tilesX + std::size_t(tx));
+    };
+    // Groups of consecutive chunks, binned in parallel: counts[g][tile], then an exclusive
+    // prefix sum in (tile, group) order gives each group its slot in every tile's list, so
+    // a tile's list is the groups' lists in group order = submission order. The group count
+    // only trades parallelism against the counts table (<= 2^22 entries); it never changes
+    // the lists.
+    const std::size_t chunkCount = chunks.size();
+    const std::size_t groups =
+        std::max<std::size_t>(1, std::min({chunkCount, std::size_t(64), (std::size_t(1) << 22) / std::max<std::size_t>(nTiles, 1)}));
+    auto groupChunks = [&](std::size_t g) {
+        return std::pair<std::size_t, std::size_t>(g * chunkCount / groups, (g + 1) * chunkCount / groups);
+    };
+    std::vector<std::size_t> slot(groups * nTiles, 0);  // counts, then each group's next write position
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t g = r.begin(); g != r.end(); ++g) {
+            std::size_t* count = slot.data() + g * nTiles;
+            const auto [c0, c1] = groupChunks(g);
+            for (std::size_t c = c0; c < c1; ++c)
+                for (const SetupTriangle& t : chunks[c].tris) forEachTile(t.bounds, [&](std::size_t tile) { ++count[tile]; });
+        }
+    });
+    bins.offsets.resize(nTiles + 1);
+    std::size_t total = 0;
+    for (std::size_t tile = 0; tile < nTiles; ++tile) {
+        bins.offsets[tile] = total;
+        for (std::size_t g = 0; g < groups; ++g) {
+            const std::size_t n = slot[g * nTiles + tile];
+            slot[g * nTiles + tile] = total;
+            total += n;
+        }
     }
+    bins.offsets[nTiles] = total;
+    bins.refs.resize(total);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t g = r.begin(); g != r.end(); ++g) {
+            std::size_t* next = slot.data() + g * nTiles;
+            const auto [c0, c1] = groupChunks(g);
+            for (std::size_t c = c0; c < c1; ++c)
+                for (std::uint32_t i = 0; i < chunks[c].tris.size(); ++i)
+                    forEachTile(chunks[c].tris[i].bounds, [&](std::size_t tile) {
+                        bins.refs[next[tile]++] = TriangleRef{std::uint32_t(c), i};
+                    });
+        }
+    });
     return bins;
 }
 

@@ -75,6 +75,13 @@ void DepthStencilUnit::update(std::byte* texel, float z, bool frontFace, DepthSt
     }
 }
 
+DepthPath DepthStencilUnit::path() const {
+    if (format == Format::Unknown || (!desc.depthEnable && !stencilActive())) return DepthPath::Off;
+    if (stencilActive()) return DepthPath::General;
+    if (format == Format::D24_UNORM_S8_UINT) return DepthPath::D24;
+    return DepthPath::D32;  // D32_FLOAT, D32_FLOAT_S8X24_UINT: the float is in bytes 0..3
+}
+
 namespace {
 float clampTo(float v, float lo, float hi) {
     if (!(v == v)) return 0.0f;  // NaN -> 0 (D3D11.3 §3.2.3.6: NaN converts to 0)
@@ -153,6 +160,14 @@ void writeColorSample(Format format, std::byte* texel, const glm::vec4& srcIn, c
     for (int c = 0; c < 4; ++c)
         if (!(mask & (1 << c))) result[c] = dst[c];
     encodeTexel(format, result, texel);
+}
+
+} // namespace tessera
+
+namespace tessera {
+
+bool isRgba8UnormOverwrite(Format format, const RenderTargetBlendDesc& blend) {
+    return format == Format::R8G8B8A8_UNORM && !blend.blendEnable && (blend.renderTargetWriteMask & WriteAll) == WriteAll;
 }
 
 } // namespace tessera

@@ -97,6 +97,7 @@ void emitTriangle(const SetupContext& ctx, const glm::vec4 pos[3], const float* 
     const DrawState& st = *ctx.state;
     const Viewport& vp = st.viewport;
     SetupTriangle t{};
+    std::int32_t xFixed[3], yFixed[3];  // 16.8 window position of each vertex
     float xWin[3], yWin[3];
     for (int i = 0; i < 3; ++i) {
         // Perspective divide and the D3D viewport transform (D3D11.3 §15.6 "Viewport"):
@@ -108,18 +109,17 @@ void emitTriangle(const SetupContext& ctx, const glm::vec4 pos[3], const float* 
         yWin[i] = (1.0f - yNdc) * (vp.height * 0.5f) + vp.topLeftY;
         t.zWindow[i] = vp.minDepth + zNdc * (vp.maxDepth - vp.minDepth);
         t.invW[i] = invW;
-        t.posW[i] = pos[i].w;
         if (!std::isfinite(xWin[i]) || !std::isfinite(yWin[i]) || std::fabs(xWin[i]) > fixed::kGuardBandPx ||
             std::fabs(yWin[i]) > fixed::kGuardBandPx) {
             ++stats.culledNonFinite;
             return;
         }
-        t.xFixed[i] = fixed::snap(xWin[i]);
-        t.yFixed[i] = fixed::snap(yWin[i]);
+        xFixed[i] = fixed::snap(xWin[i]);
+        yFixed[i] = fixed::snap(yWin[i]);
     }
     // Doubled signed area from the snapped positions; > 0 is clockwise in window space (y down).
-    std::int64_t area2 = (std::int64_t(t.xFixed[1]) - t.xFixed[0]) * (std::int64_t(t.yFixed[2]) - t.yFixed[0]) -
-                         (std::int64_t(t.yFixed[1]) - t.yFixed[0]) * (std::int64_t(t.xFixed[2]) - t.xFixed[0]);
+    std::int64_t area2 = (std::int64_t(xFixed[1]) - xFixed[0]) * (std::int64_t(yFixed[2]) - yFixed[0]) -
+                         (std::int64_t(yFixed[1]) - yFixed[0]) * (std::int64_t(xFixed[2]) - xFixed[0]);
     if (area2 == 0) {
         ++stats.culledDegenerate;
         return;
@@ -134,22 +134,21 @@ void emitTriangle(const SetupContext& ctx, const glm::vec4 pos[3], const float* 
     int order[3] = {0, 1, 2};
     if (!clockwise) {  // orient clockwise so that inside means every E_i > 0
         std::swap(order[1], order[2]);
-        std::swap(t.xFixed[1], t.xFixed[2]);
-        std::swap(t.yFixed[1], t.yFixed[2]);
+        std::swap(xFixed[1], xFixed[2]);
+        std::swap(yFixed[1], yFixed[2]);
         std::swap(t.zWindow[1], t.zWindow[2]);
         std::swap(t.invW[1], t.invW[2]);
-        std::swap(t.posW[1], t.posW[2]);
         area2 = -area2;
     }
-    t.area2 = area2;
     t.invArea2 = 1.0 / double(area2);
     for (int i = 0; i < 3; ++i) {
         const int a = (i + 1) % 3, b = (i + 2) % 3;
-        const std::int64_t xa = t.xFixed[a], ya = t.yFixed[a], xb = t.xFixed[b], yb = t.yFixed[b];
+        const std::int32_t xa = xFixed[a], ya = yFixed[a], xb = xFixed[b], yb = yFixed[b];
+        // |xb - xa|, |ya - yb| <= 2^30: no int32 overflow (fixed_point.h, guard band).
         t.a[i] = ya - yb;
         t.b[i] = xb - xa;
-        t.edgeX[i] = t.xFixed[a];
-        t.edgeY[i] = t.yFixed[a];
+        t.edgeX[i] = xa;
+        t.edgeY[i] = ya;
         // Top-left rule (D3D11.3 §15.? "Triangle Rasterization Rules"), for a clockwise
         // triangle in y-down space: a top edge is horizontal and runs towards +x (the
         // triangle lies below it); a left edge runs upwards (towards -y). Samples exactly
@@ -160,10 +159,10 @@ void emitTriangle(const SetupContext& ctx, const glm::vec4 pos[3], const float* 
     }
     // Pixel bounds: a pixel's samples lie within +-7/16 px (112 units) of its centre.
     constexpr std::int64_t kReach = fixed::kHalf + 7 * 16;
-    const std::int64_t xMin = std::min({t.xFixed[0], t.xFixed[1], t.xFixed[2]});
-    const std::int64_t xMax = std::max({t.xFixed[0], t.xFixed[1], t.xFixed[2]});
-    const std::int64_t yMin = std::min({t.yFixed[0], t.yFixed[1], t.yFixed[2]});
-    const std::int64_t yMax = std::max({t.yFixed[0], t.yFixed[1], t.yFixed[2]});
+    const std::int64_t xMin = std::min({xFixed[0], xFixed[1], xFixed[2]});
+    const std::int64_t xMax = std::max({xFixed[0], xFixed[1], xFixed[2]});
+    const std::int64_t yMin = std::min({yFixed[0], yFixed[1], yFixed[2]});
+    const std::int64_t yMax = std::max({yFixed[0], yFixed[1], yFixed[2]});
     PixelRect r;
     r.minX = std::int32_t(std::max<std::int64_t>(ctx.targetRect.minX, floorDiv(xMin - kReach, fixed::kOne)));
     r.minY = std::int32_t(std::max<std::int64_t>(ctx.targetRect.minY, floorDiv(yMin - kReach, fixed::kOne)));

@@ -23,18 +23,18 @@ struct PixelRect {
 // (clockwise in window space, y down) whatever its facing.
 //   E_i(P) = A_i * (P.x - X_i) + B_i * (P.y - Y_i), edge i runs from vertex i+1 to i+2
 //   (indices mod 3), so E_i(P) / area2 is the barycentric weight of vertex i.
+// Kept small (104 bytes): a draw of 1M triangles holds 1M of these. A_i, B_i are differences
+// of two snapped coordinates, |.| <= 2^30 (fixed_point.h), so they fit int32; every edge
+// value is evaluated in int64 (same bound argument).
 struct SetupTriangle {
-    std::int32_t xFixed[3], yFixed[3];   // 16.8 window position of each vertex
-    std::int64_t a[3], b[3];             // edge i: A = Ya - Yb, B = Xb - Xa (a = i+1, b = i+2)
-    std::int32_t edgeX[3], edgeY[3];     // a point on edge i (its start vertex)
-    std::int64_t bias[3];                // 0 on top/left edges, 1 elsewhere: cover when E >= bias
-    std::int64_t area2;                  // twice the area in units^2 (> 0)
-    double invArea2;                     // 1 / area2
+    std::int32_t a[3], b[3];             // edge i: A = Ya - Yb, B = Xb - Xa (a = i+1, b = i+2)
+    std::int32_t edgeX[3], edgeY[3];     // 16.8 start vertex (i+1) of edge i
+    double invArea2;                     // 1 / (twice the area in units^2), area2 > 0
     float zWindow[3];                    // depth after the viewport transform (not clamped)
     float invW[3];                       // 1 / clip w
-    float posW[3];                       // clip w
     std::uint32_t varyingOffset;         // index of vertex 0's varyings*invW in the float store
     PixelRect bounds;                    // covered-pixel bounds clipped to the scissor/target
+    std::uint8_t bias[3];                // 0 on top/left edges, 1 elsewhere: cover when E >= bias
     bool frontFacing;
 };
 

@@ -1,6 +1,6 @@
 // Template body of Device::draw: vertex stage -> setup (parallel chunks, order kept) ->
 // binning into tiles -> per-tile rasterization of 2x2 quads with the pixel shader and the
-// output merger. Included from device.h; not a public header on its own.
+// output merger, batch after batch of triangles. Included from device.h; not a public header.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <tessera/buffers/conversion.h>
 #include <tessera/raster/fixed_point.h>
 #include <tessera/raster/output_merger.h>
 #include <tessera/raster/sample_pattern.h>
@@ -26,77 +27,84 @@ void Device::execute(F&& f) {
 namespace detail {
 
 inline constexpr std::uint32_t kSetupChunk = 2048;  // triangles per parallel setup task
+// Triangles per batch: a draw runs setup -> binning -> rasterization on consecutive batches of
+// its triangles, so the set-up triangles (about 150 bytes each with 4 varyings) are reused
+// from cache-sized storage instead of streaming a whole draw's worth (150 MB for 1M
+// triangles) through fresh memory. Each batch sweeps every tile's pixels once, so batches
+// must not be too small either: 128K triangles measured best at 1920x1080 (bench/RESULTS.md).
+// Tiles still see every triangle in submission order: batches run one after another.
+inline constexpr std::uint32_t kBatchTriangles = 64 * kSetupChunk;
 
-// Bins triangles (in submission order) into the tiles their bounds touch.
+// The set-up triangles of one chunk of kSetupChunk input triangles, in submission order, and
+// their varyings (SetupTriangle::varyingOffset indexes `varyings`). Chunks are not
+// concatenated: bins refer to (chunk, index), which saves a copy of every triangle.
+struct SetupChunk {
+    std::vector<SetupTriangle> tris;
+    std::vector<float> varyings;
+};
+
+struct TriangleRef {
+    std::uint32_t chunk, index;
+};
+
+// Triangles binned into the tiles their bounds touch. Tile t's list is
+// refs[offsets[t] .. offsets[t + 1]), in submission order (ascending chunk, then index).
 struct TileBins {
     std::uint32_t tileSize = 0, tilesX = 0, tilesY = 0;
-    std::vector<std::vector<std::uint32_t>> lists;  // per tile: triangle ids, ascending
+    std::vector<std::size_t> offsets;  // tilesX * tilesY + 1
+    std::vector<TriangleRef> refs;
+    std::size_t tileCount() const { return std::size_t(tilesX) * tilesY; }
 };
-TileBins binTriangles(const std::vector<SetupTriangle>& tris, std::uint32_t width, std::uint32_t height,
+// Parallel over groups of chunks (count, prefix sum, scatter); the lists do not depend on the
+// grouping or thread count, only on the triangles.
+TileBins binTriangles(const std::vector<SetupChunk>& chunks, std::uint32_t width, std::uint32_t height,
                       std::uint32_t tileSize);
 
-// Runs triangle setup over `triangleCount` triangles in parallel chunks and concatenates
-// the results in submission order. fetch(t, pos[3], var[3]) supplies triangle t's vertices.
-template <class Fetch>
-void setupAll(std::uint32_t triangleCount, const SetupContext& ctx, Fetch&& fetch, std::vector<SetupTriangle>& tris,
-              std::vector<float>& varyingStore, SetupStats& stats) {
-    const std::uint32_t chunks = (triangleCount + kSetupChunk - 1) / kSetupChunk;
-    std::vector<std::vector<SetupTriangle>> chunkTris(chunks);
-    std::vector<std::vector<float>> chunkVary(chunks);
-    std::vector<SetupStats> chunkStats(chunks);
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, chunks, 1), [&](const tbb::blocked_range<std::uint32_t>& r) {
+// Runs triangle setup over triangles [first, end) in parallel chunks (submission order kept
+// within and across chunks), reusing the chunks' storage. fetch(t, out[3]) supplies
+// triangle t's vertex outputs.
+template <Varyings V, class Fetch>
+void setupAll(std::uint32_t first, std::uint32_t end, const SetupContext& ctx, Fetch&& fetch,
+              std::vector<SetupChunk>& chunks, SetupStats& stats) {
+    const std::uint32_t chunkCount = (end - first + kSetupChunk - 1) / kSetupChunk;
+    chunks.resize(chunkCount);
+    std::vector<SetupStats> chunkStats(chunkCount);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, chunkCount, 1), [&](const tbb::blocked_range<std::uint32_t>& r) {
         for (std::uint32_t c = r.begin(); c != r.end(); ++c) {
-            const std::uint32_t end = std::min(triangleCount, (c + 1) * kSetupChunk);
-            chunkTris[c].reserve(end - c * kSetupChunk);
-            for (std::uint32_t t = c * kSetupChunk; t < end; ++t) {
-                glm::vec4 pos[3];
+            const std::uint32_t t0 = first + c * kSetupChunk, t1 = std::min(end, t0 + kSetupChunk);
+            SetupChunk& chunk = chunks[c];
+            chunk.tris.clear();
+            chunk.varyings.clear();
+            chunk.tris.reserve(t1 - t0);
+            chunk.varyings.reserve(std::size_t(t1 - t0) * 3 * ctx.varyingFloats);
+            for (std::uint32_t t = t0; t < t1; ++t) {
+                VertexOutput<V> vert[3];
+                fetch(t, vert);
+                const glm::vec4 pos[3] = {vert[0].posClip, vert[1].posClip, vert[2].posClip};
                 const float* var[3];
-                fetch(t, pos, var);
-                setupTriangle(ctx, pos, var, chunkTris[c], chunkVary[c], chunkStats[c]);
+                for (int k = 0; k < 3; ++k) var[k] = reinterpret_cast<const float*>(&vert[k].varyings);
+                setupTriangle(ctx, pos, var, chunk.tris, chunk.varyings, chunkStats[c]);
             }
         }
     });
-    std::size_t nTris = 0, nVary = 0;
-    for (std::uint32_t c = 0; c < chunks; ++c) {
-        nTris += chunkTris[c].size();
-        nVary += chunkVary[c].size();
-        stats.trianglesIn += chunkStats[c].trianglesIn;
-        stats.culledFacing += chunkStats[c].culledFacing;
-        stats.culledDegenerate += chunkStats[c].culledDegenerate;
-        stats.culledNonFinite += chunkStats[c].culledNonFinite;
-        stats.clipped += chunkStats[c].clipped;
-        stats.trianglesOut += chunkStats[c].trianglesOut;
+    for (const SetupStats& cs : chunkStats) {
+        stats.trianglesIn += cs.trianglesIn;
+        stats.culledFacing += cs.culledFacing;
+        stats.culledDegenerate += cs.culledDegenerate;
+        stats.culledNonFinite += cs.culledNonFinite;
+        stats.clipped += cs.clipped;
+        stats.trianglesOut += cs.trianglesOut;
     }
-    tris.resize(nTris);
-    varyingStore.resize(nVary);
-    std::vector<std::size_t> triBase(chunks + 1, 0), varyBase(chunks + 1, 0);
-    for (std::uint32_t c = 0; c < chunks; ++c) {
-        triBase[c + 1] = triBase[c] + chunkTris[c].size();
-        varyBase[c + 1] = varyBase[c] + chunkVary[c].size();
-    }
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, chunks, 1), [&](const tbb::blocked_range<std::uint32_t>& r) {
-        for (std::uint32_t c = r.begin(); c != r.end(); ++c) {
-            for (std::size_t i = 0; i < chunkTris[c].size(); ++i) {
-                SetupTriangle t = chunkTris[c][i];
-                t.varyingOffset += std::uint32_t(varyBase[c]);
-                tris[triBase[c] + i] = t;
-            }
-            std::copy(chunkVary[c].begin(), chunkVary[c].end(), varyingStore.begin() + std::ptrdiff_t(varyBase[c]));
-        }
-    });
 }
 
-// Barycentric weights at a sample point (16.8 units): lambda_i = E_i / area2, in double
-// from the exact integer edge values, rounded once to float.
+// Barycentric weights from the exact integer edge values at a sample point: lambda_i =
+// E_i / area2, in double, rounded once to float.
 struct Bary {
     float l[3];
 };
-inline Bary baryAt(const SetupTriangle& t, std::int64_t X, std::int64_t Y) {
+inline Bary baryFromEdges(const SetupTriangle& t, const std::int64_t e[3]) {
     Bary b;
-    for (int i = 0; i < 3; ++i) {
-        const std::int64_t e = t.a[i] * (X - t.edgeX[i]) + t.b[i] * (Y - t.edgeY[i]);
-        b.l[i] = float(double(e) * t.invArea2);
-    }
+    for (int i = 0; i < 3; ++i) b.l[i] = float(double(e[i]) * t.invArea2);
     return b;
 }
 
@@ -125,12 +133,88 @@ inline V interpolate(const SetupTriangle& t, const float* store, const Bary& b, 
     return std::bit_cast<V>(out);
 }
 
+// Barycentrics, depth and (when kVaryings) perspective-correct varyings at the four pixel
+// centres of a quad, lane p = pixel p (TL, TR, BL, BR). Written as loops over the lane so the
+// compiler can run the four pixels in SIMD; each lane performs exactly the operations of
+// baryFromEdges, depthAt and interpolate, in the same order (SIMD and scalar IEEE operations
+// round identically, and nothing is contracted), so every value equals the per-pixel one.
+template <Varyings V>
+struct QuadCentres {
+    float l[3][4];  // barycentrics
+    float z[4];     // depthAt (not clamped)
+    float posW[4];  // clip w
+    std::array<V, 4> varyings;
+    Bary bary(int p) const { return Bary{{l[0][p], l[1][p], l[2][p]}}; }
+};
+template <Varyings V, bool kVaryings>
+inline void quadCentres(const SetupTriangle& t, const float* store, const std::int64_t (&ePix)[4][3], QuadCentres<V>& q) {
+    for (int i = 0; i < 3; ++i)
+        for (int p = 0; p < 4; ++p) q.l[i][p] = float(double(ePix[p][i]) * t.invArea2);
+    const float dz1 = t.zWindow[1] - t.zWindow[0], dz2 = t.zWindow[2] - t.zWindow[0];
+    for (int p = 0; p < 4; ++p) q.z[p] = t.zWindow[0] + q.l[1][p] * dz1 + q.l[2][p] * dz2;
+    if constexpr (kVaryings) {
+        constexpr std::size_t n = kVaryingFloatCount<V>;
+        float invDenom[4];
+        for (int p = 0; p < 4; ++p) {
+            const float q0 = q.l[0][p] * t.invW[0], q1 = q.l[1][p] * t.invW[1], q2 = q.l[2][p] * t.invW[2];
+            invDenom[p] = 1.0f / (q0 + q1 + q2);
+            q.posW[p] = invDenom[p];
+        }
+        const float* v = store + t.varyingOffset;
+        std::array<VaryingArray<V>, 4> out;
+        for (std::size_t k = 0; k < n; ++k) {
+            float lane[4];
+            for (int p = 0; p < 4; ++p)
+                lane[p] = (q.l[0][p] * v[k] + q.l[1][p] * v[n + k] + q.l[2][p] * v[2 * n + k]) * invDenom[p];
+            for (int p = 0; p < 4; ++p) out[std::size_t(p)][k] = lane[p];
+        }
+        for (std::size_t p = 0; p < 4; ++p) q.varyings[p] = std::bit_cast<V>(out[p]);
+    }
+}
+
 template <Varyings V>
 inline V subtract(const V& a, const V& b) {
     auto x = std::bit_cast<VaryingArray<V>>(a);
     const auto y = std::bit_cast<VaryingArray<V>>(b);
     for (std::size_t k = 0; k < x.size(); ++k) x[k] -= y[k];
     return std::bit_cast<V>(x);
+}
+
+// Depth/stencil test of one sample on the draw's DepthPath (output_merger.h). For D24,
+// `code` returns the incoming depth converted to the buffer (reused by the update).
+template <DepthPath kPath>
+inline DepthStencilResult depthStencilTest(const DepthStencilUnit& ds, const std::byte* texel, float z, bool front,
+                                           std::uint32_t& code) {
+    if constexpr (kPath == DepthPath::Off) {
+        return DepthStencilResult::Pass;
+    } else if constexpr (kPath == DepthPath::D32) {
+        float stored;
+        std::memcpy(&stored, texel, 4);
+        return compare(ds.desc.depthFunc, z, stored) ? DepthStencilResult::Pass : DepthStencilResult::DepthFail;
+    } else if constexpr (kPath == DepthPath::D24) {
+        std::uint32_t stored;
+        std::memcpy(&stored, texel, 4);
+        code = convert::depthToD24(z);
+        return compare(ds.desc.depthFunc, code, stored & 0xFFFFFFu) ? DepthStencilResult::Pass : DepthStencilResult::DepthFail;
+    } else {
+        return ds.test(texel, z, front);
+    }
+}
+
+template <DepthPath kPath>
+inline void depthStencilUpdate(const DepthStencilUnit& ds, std::byte* texel, float z, bool front,
+                               DepthStencilResult result, std::uint32_t code) {
+    if constexpr (kPath == DepthPath::D32) {
+        if (result == DepthStencilResult::Pass && ds.desc.depthWriteEnable) std::memcpy(texel, &z, 4);
+    } else if constexpr (kPath == DepthPath::D24) {
+        if (result == DepthStencilResult::Pass && ds.desc.depthWriteEnable) {
+            texel[0] = std::byte(code & 0xFF);
+            texel[1] = std::byte((code >> 8) & 0xFF);
+            texel[2] = std::byte((code >> 16) & 0xFF);
+        }
+    } else if constexpr (kPath == DepthPath::General) {
+        ds.update(texel, z, front, result);
+    }
 }
 
 struct TileCounters {
@@ -143,148 +227,261 @@ struct DrawContext {
     DrawTargets targets;
     std::array<Surface*, kMaxRenderTargets> colors;
     std::array<RenderTargetBlendDesc, kMaxRenderTargets> blend;
+    std::array<bool, kMaxRenderTargets> rgba8Overwrite;  // isRgba8UnormOverwrite per target
     glm::vec4 blendFactor;
     Surface* depthStencil;
     DepthStencilUnit ds;
     std::span<const SampleOffset> samples;
 };
 
-template <class PS, Varyings V>
-void rasterizeTile(const DrawContext& dc, const PixelRect& tile, const std::vector<std::uint32_t>& list,
-                   const std::vector<SetupTriangle>& tris, const float* store, const PS& ps, TileCounters& counters) {
+// Rasterizes the tile's triangles in submission order. Edge functions are stepped, not
+// re-multiplied: E_i at the top-left pixel centre of the first quad is evaluated once per
+// triangle exactly as A_i (X - X_i) + B_i (Y - Y_i), then moves by A_i * 256 per pixel in x
+// and B_i * 256 per pixel in y, and a sample adds A_i * dx + B_i * dy for its offset. Integer
+// addition is exact, and every value formed is the edge function at a real point of the
+// target (|E| <= 2^61, fixed_point.h), so coverage and barycentrics equal the direct
+// evaluation bit for bit.
+// kSingleSample: the targets have one sample, so every per-sample loop folds away at compile time.
+template <class PS, Varyings V, DepthPath kDepth, bool kSingleSample>
+void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
+                   const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& counters) {
     constexpr bool kHasPs = !std::is_same_v<PS, NoPixelShader>;
     constexpr int kTargets = [] { if constexpr (kHasPs) return int(PS::kTargetCount); else return 0; }();
     constexpr bool kWritesDepth = kHasPs && writesDepth<PS>();
     constexpr bool kPerSample = kHasPs && perSample<PS>();
     constexpr bool kMayDiscard = kHasPs && mayDiscard<PS>();
-    const std::uint32_t sampleCount = dc.targets.sampleCount;
+    const std::uint32_t sampleCount = kSingleSample ? 1 : dc.targets.sampleCount;
     const Viewport& vp = dc.state->viewport;
 
-    for (const std::uint32_t id : list) {
-        const SetupTriangle& t = tris[id];
-        PixelRect r{std::max(t.bounds.minX, tile.minX), std::max(t.bounds.minY, tile.minY),
-                    std::min(t.bounds.maxX, tile.maxX), std::min(t.bounds.maxY, tile.maxY)};
+    // A tile's triangles lie scattered over the draw's setup output (small triangles: one
+    // every few hundred bytes to kilobytes), so each is a cache and TLB miss. Prefetch the
+    // triangle kAheadTri entries ahead, its varyings kAheadVary ahead (by then the triangle,
+    // which holds their offset, has arrived) and the first rows of depth and colour texels
+    // it covers kAheadPixels ahead. Prefetches change no result.
+    constexpr std::size_t kAheadTri = 8, kAheadVary = 4, kAheadPixels = 2;
+    constexpr std::int32_t kPrefetchRows = 8;
+    Surface* const pixelSurfaces[2] = {kDepth == DepthPath::Off ? nullptr : dc.depthStencil,
+                                       kTargets > 0 ? dc.colors[0] : nullptr};
+    constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
+    auto triangleOf = [&](const TriangleRef& ref) -> const SetupTriangle& { return chunks[ref.chunk].tris[ref.index]; };
+    for (std::size_t k = 0; k < list.size(); ++k) {
+        if (k + kAheadTri < list.size()) {
+            const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
+            __builtin_prefetch(next);
+            __builtin_prefetch(next + sizeof(SetupTriangle) - 1);
+        }
+        if (k + kAheadVary < list.size()) {
+            const TriangleRef ahead = list[k + kAheadVary];
+            const char* vary = reinterpret_cast<const char*>(chunks[ahead.chunk].varyings.data() + triangleOf(ahead).varyingOffset);
+            for (std::size_t b = 0; b < kVaryBytes; b += 64) __builtin_prefetch(vary + b);
+            __builtin_prefetch(vary + kVaryBytes - 1);
+        }
+        if (k + kAheadPixels < list.size()) {
+            const PixelRect& b = triangleOf(list[k + kAheadPixels]).bounds;
+            const std::int32_t x0 = std::max(b.minX, tile.minX), x1 = std::min(b.maxX, tile.maxX);
+            const std::int32_t y0 = std::max(b.minY, tile.minY), y1 = std::min({b.maxY, tile.maxY, y0 + kPrefetchRows});
+            if (x0 < x1)
+                for (Surface* surface : pixelSurfaces)
+                    if (surface)
+                        for (std::int32_t y = y0; y < y1; ++y) {
+                            __builtin_prefetch(surface->texel(std::uint32_t(x0), std::uint32_t(y)), 1);
+                            __builtin_prefetch(surface->texel(std::uint32_t(x1 - 1), std::uint32_t(y), sampleCount - 1), 1);
+                        }
+        }
+        const TriangleRef ref = list[k];
+        const SetupChunk& chunk = chunks[ref.chunk];
+        const SetupTriangle& t = chunk.tris[ref.index];
+        const float* store = chunk.varyings.data();
+        const PixelRect r{std::max(t.bounds.minX, tile.minX), std::max(t.bounds.minY, tile.minY),
+                          std::min(t.bounds.maxX, tile.maxX), std::min(t.bounds.maxY, tile.maxY)};
         if (r.empty()) continue;
         const bool front = t.frontFacing;
         const bool failWrites = dc.ds.failCanWrite(front);
-        for (std::int32_t qy = r.minY & ~1; qy < r.maxY; qy += 2) {
-            for (std::int32_t qx = r.minX & ~1; qx < r.maxX; qx += 2) {
-                // Coverage: bit (pixel * sampleCount + s); pixels 0..3 = TL, TR, BL, BR.
-                std::uint32_t quadMask = 0;
-                for (int p = 0; p < 4; ++p) {
-                    const std::int32_t px = qx + (p & 1), py = qy + (p >> 1);
-                    if (px < r.minX || px >= r.maxX || py < r.minY || py >= r.maxY) continue;
-                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
-                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
-                        bool in = true;
-                        for (int i = 0; i < 3 && in; ++i)
-                            in = t.a[i] * (X - t.edgeX[i]) + t.b[i] * (Y - t.edgeY[i]) >= t.bias[i];
-                        if (in) quadMask |= 1u << (p * sampleCount + s);
-                    }
-                }
-                if (quadMask == 0) continue;
-                ++counters.quads;
 
-                // Varyings at the four pixel centres (helper pixels included) for derivatives.
-                [[maybe_unused]] std::array<V, 4> centre;
-                [[maybe_unused]] std::array<float, 4> centreW{};
-                [[maybe_unused]] V ddx{}, ddy{};
-                if constexpr (kHasPs) {
-                    for (int p = 0; p < 4; ++p) {
-                        const std::int64_t X = std::int64_t(qx + (p & 1)) * fixed::kOne + fixed::kHalf;
-                        const std::int64_t Y = std::int64_t(qy + (p >> 1)) * fixed::kOne + fixed::kHalf;
-                        centre[p] = interpolate<V>(t, store, baryAt(t, X, Y), centreW[p]);
-                    }
-                    ddx = subtract(centre[1], centre[0]);
-                    ddy = subtract(centre[2], centre[0]);
-                }
+        // Edge steps (units^2) and the offset of each sample from its pixel centre.
+        std::int64_t stepX[3], stepY[3], sampleDelta[8][3];
+        const std::int32_t qx0 = r.minX & ~1, qy0 = r.minY & ~1;
+        std::int64_t eOrigin[3];  // E_i at the centre of pixel (qx0, qy0)
+        for (int i = 0; i < 3; ++i) {
+            stepX[i] = std::int64_t(t.a[i]) * fixed::kOne;
+            stepY[i] = std::int64_t(t.b[i]) * fixed::kOne;
+            const std::int64_t X = std::int64_t(qx0) * fixed::kOne + fixed::kHalf;
+            const std::int64_t Y = std::int64_t(qy0) * fixed::kOne + fixed::kHalf;
+            eOrigin[i] = std::int64_t(t.a[i]) * (X - t.edgeX[i]) + std::int64_t(t.b[i]) * (Y - t.edgeY[i]);
+            for (std::uint32_t s = 0; s < sampleCount; ++s)
+                sampleDelta[s][i] = std::int64_t(t.a[i]) * (dc.samples[s].x * 16) + std::int64_t(t.b[i]) * (dc.samples[s].y * 16);
+        }
+        // Blocks of kBlock x kBlock pixels (whole quads, from (qx0, qy0)) where some edge
+        // function is below its bias at every sample point are skipped. E_i is linear, so its
+        // maximum over the block's sample points is E_i at the block's first pixel centre plus
+        // blockReach[i] (the largest pixel step in x and in y, plus the largest sample offset):
+        // an exact integer bound, so a skipped block holds no covered sample. The points are
+        // at most kBlock px outside the target, inside the guard band: |E| <= 2^61 still holds.
+        // Quads within a triangle cover disjoint pixels, so visiting them block by block
+        // instead of row by row changes no result.
+        constexpr std::int32_t kBlock = 8;
+        std::int64_t blockReach[3];
+        for (int i = 0; i < 3; ++i) {
+            std::int64_t maxDelta = sampleDelta[0][i];
+            for (std::uint32_t s = 1; s < sampleCount; ++s) maxDelta = std::max(maxDelta, sampleDelta[s][i]);
+            blockReach[i] = std::max<std::int64_t>(0, (kBlock - 1) * stepX[i]) +
+                            std::max<std::int64_t>(0, (kBlock - 1) * stepY[i]) + maxDelta;
+        }
 
-                for (int p = 0; p < 4; ++p) {
-                    const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
-                    if (pixelMask == 0) continue;
-                    const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
-                    float zSample[8];
-                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                        if (!(pixelMask & (1u << s))) continue;
-                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
-                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
-                        zSample[s] = clampDepth(depthAt(t, baryAt(t, X, Y)), vp.minDepth, vp.maxDepth);
-                    }
-                    // Shades, tests and writes the samples in `mask` with one shader result.
-                    // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
-                    // shader runs per sample (clamped to the viewport range like the samples).
-                    auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
-                                              float xWin, float yWin, float zPs) {
-                        [[maybe_unused]] PixelOutput<kTargets> out;
-                        bool shaded = false;
-                        auto shade = [&] {
-                            if constexpr (kHasPs) {
-                                PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
-                                                 pixelMask, sampleIndex};
-                                ps(in, out);
-                                ++counters.psInvocations;
-                                shaded = true;
+        for (std::int32_t by = qy0; by < r.maxY; by += kBlock) {
+            for (std::int32_t bx = qx0; bx < r.maxX; bx += kBlock) {
+                std::int64_t eQuadRow[3];  // E_i at the centre of pixel (bx, qy)
+                bool outside = false;
+                for (int i = 0; i < 3; ++i) {
+                    eQuadRow[i] = eOrigin[i] + (bx - qx0) * stepX[i] + (by - qy0) * stepY[i];
+                    outside = outside || eQuadRow[i] + blockReach[i] < t.bias[i];
+                }
+                if (outside) continue;
+                const std::int32_t xEnd = std::min(bx + kBlock, r.maxX), yEnd = std::min(by + kBlock, r.maxY);
+                for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+                    std::int64_t eQuad[3] = {eQuadRow[0], eQuadRow[1], eQuadRow[2]};
+                    for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                        // E_i at the four pixel centres: TL, TR, BL, BR.
+                        std::int64_t ePix[4][3];
+                        for (int i = 0; i < 3; ++i) {
+                            ePix[0][i] = eQuad[i];
+                            ePix[1][i] = eQuad[i] + stepX[i];
+                            ePix[2][i] = eQuad[i] + stepY[i];
+                            ePix[3][i] = eQuad[i] + stepX[i] + stepY[i];
+                            eQuad[i] += 2 * stepX[i];
+                        }
+                        // Coverage: bit (pixel * sampleCount + s); pixels 0..3 = TL, TR, BL, BR.
+                        std::uint32_t quadMask = 0;
+                        // Columns / rows of the quad inside r (bit 0: left / top, bit 1: right / bottom);
+                        // qx + 1 >= r.minX and qx < r.maxX hold by construction, likewise for y.
+                        const std::uint32_t colIn = (qx >= r.minX ? 1u : 0u) | (qx + 1 < r.maxX ? 2u : 0u);
+                        const std::uint32_t rowIn = (qy >= r.minY ? 1u : 0u) | (qy + 1 < r.maxY ? 2u : 0u);
+                        for (int p = 0; p < 4; ++p) {
+                            if (!((colIn >> (p & 1)) & (rowIn >> (p >> 1)) & 1u)) continue;
+                            for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                bool in = true;
+                                for (int i = 0; i < 3 && in; ++i) in = ePix[p][i] + sampleDelta[s][i] >= t.bias[i];
+                                if (in) quadMask |= 1u << (p * sampleCount + s);
                             }
-                        };
-                        if constexpr (kWritesDepth) {
-                            shade();
-                            if (out.discarded) return;
-                            const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
-                            for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
                         }
-                        DepthStencilResult result[8];
-                        std::uint32_t passMask = 0;
-                        for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                            if (!(mask & (1u << s))) continue;
-                            const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
-                            result[s] = dc.ds.test(dsTexel, zSample[s], front);
-                            if (result[s] == DepthStencilResult::Pass) passMask |= 1u << s;
-                        }
-                        if constexpr (kHasPs && !kWritesDepth) {
-                            // Early depth/stencil: the shader is skipped only where its result
-                            // cannot matter (no sample passes and a discard could not change
-                            // what the failing samples write).
-                            if (passMask != 0 || (kMayDiscard && failWrites)) shade();
-                            if (shaded && out.discarded) return;
-                        }
-                        for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                            if (!(mask & (1u << s))) continue;
-                            if (dc.depthStencil) dc.ds.update(dc.depthStencil->texel(px, py, s), zSample[s], front, result[s]);
-                        }
+                        if (quadMask == 0) continue;
+                        ++counters.quads;
+
+                        // Barycentrics, depth and varyings at the four pixel centres (helper pixels
+                        // included, for derivatives).
+                        QuadCentres<V> qc;
+                        quadCentres<V, kHasPs>(t, store, ePix, qc);
+                        [[maybe_unused]] V ddx{}, ddy{};
                         if constexpr (kHasPs) {
-                            if (shaded && passMask != 0) {
-                                for (int rt = 0; rt < kTargets; ++rt) {
-                                    Surface* target = dc.colors[std::size_t(rt)];
-                                    if (!target) continue;
-                                    for (std::uint32_t s = 0; s < sampleCount; ++s)
-                                        if (passMask & (1u << s))
-                                            writeColorSample(target->format(), target->texel(px, py, s),
-                                                             out.target[std::size_t(rt)], dc.blend[std::size_t(rt)],
-                                                             dc.blendFactor);
+                            ddx = subtract(qc.varyings[1], qc.varyings[0]);
+                            ddy = subtract(qc.varyings[2], qc.varyings[0]);
+                        }
+
+                        for (int p = 0; p < 4; ++p) {
+                            const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
+                            if (pixelMask == 0) continue;
+                            const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
+                            // Barycentrics at sample s (the centre's when single-sampled: offset 0).
+                            auto sampleBary = [&](std::uint32_t s) {
+                                if (sampleCount == 1) return qc.bary(p);
+                                const std::int64_t e[3] = {ePix[p][0] + sampleDelta[s][0], ePix[p][1] + sampleDelta[s][1],
+                                                           ePix[p][2] + sampleDelta[s][2]};
+                                return baryFromEdges(t, e);
+                            };
+                            float zSample[8];
+                            if (sampleCount == 1) {
+                                zSample[0] = clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+                            } else {
+                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                    if (!(pixelMask & (1u << s))) continue;
+                                    zSample[s] = clampDepth(depthAt(t, sampleBary(s)), vp.minDepth, vp.maxDepth);
                                 }
                             }
+                            // Shades, tests and writes the samples in `mask` with one shader result.
+                            // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
+                            // shader runs per sample (clamped to the viewport range like the samples).
+                            auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
+                                                      float xWin, float yWin, float zPs) {
+                                [[maybe_unused]] PixelOutput<kTargets> out;
+                                bool shaded = false;
+                                auto shade = [&] {
+                                    if constexpr (kHasPs) {
+                                        PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
+                                                         pixelMask, sampleIndex};
+                                        ps(in, out);
+                                        ++counters.psInvocations;
+                                        shaded = true;
+                                    }
+                                };
+                                if constexpr (kWritesDepth) {
+                                    shade();
+                                    if (out.discarded) return;
+                                    const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
+                                    for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
+                                }
+                                DepthStencilResult result[8];
+                                std::uint32_t depthCode[8];
+                                std::uint32_t passMask = 0, passCount = 0;
+                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                    if (!(mask & (1u << s))) continue;
+                                    const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
+                                    result[s] = depthStencilTest<kDepth>(dc.ds, dsTexel, zSample[s], front, depthCode[s]);
+                                    if (result[s] == DepthStencilResult::Pass) {
+                                        passMask |= 1u << s;
+                                        ++passCount;
+                                    }
+                                }
+                                if constexpr (kHasPs && !kWritesDepth) {
+                                    // Early depth/stencil: the shader is skipped only where its result
+                                    // cannot matter (no sample passes and a discard could not change
+                                    // what the failing samples write).
+                                    if (passMask != 0 || (kMayDiscard && failWrites)) shade();
+                                    if (shaded && out.discarded) return;
+                                }
+                                if constexpr (kDepth != DepthPath::Off) {
+                                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                        if (!(mask & (1u << s))) continue;
+                                        depthStencilUpdate<kDepth>(dc.ds, dc.depthStencil->texel(px, py, s), zSample[s], front,
+                                                                   result[s], depthCode[s]);
+                                    }
+                                }
+                                if constexpr (kHasPs) {
+                                    if (shaded && passMask != 0) {
+                                        for (int rt = 0; rt < kTargets; ++rt) {
+                                            Surface* target = dc.colors[std::size_t(rt)];
+                                            if (!target) continue;
+                                            const glm::vec4& src = out.target[std::size_t(rt)];
+                                            const bool fast = dc.rgba8Overwrite[std::size_t(rt)];
+                                            for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                                if (!(passMask & (1u << s))) continue;
+                                                if (fast) writeColorRgba8Unorm(target->texel(px, py, s), src);
+                                                else writeColorSample(target->format(), target->texel(px, py, s), src,
+                                                                      dc.blend[std::size_t(rt)], dc.blendFactor);
+                                            }
+                                        }
+                                    }
+                                }
+                                counters.samplesPassed += passCount;
+                            };
+                            if constexpr (kPerSample) {
+                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                    if (!(pixelMask & (1u << s))) continue;
+                                    const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
+                                    const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
+                                    float w = 0;
+                                    const V var = interpolate<V>(t, store, sampleBary(s), w);
+                                    resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
+                                }
+                            } else if constexpr (kHasPs) {
+                                const float zCentre = sampleCount == 1 ? zSample[0] : clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+                                resolveSamples(pixelMask, 0, qc.varyings[std::size_t(p)], qc.posW[p], float(px) + 0.5f,
+                                               float(py) + 0.5f, zCentre);
+                            } else {
+                                resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
+                            }
                         }
-                        counters.samplesPassed += std::uint64_t(std::popcount(passMask));
-                    };
-                    if constexpr (kPerSample) {
-                        for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                            if (!(pixelMask & (1u << s))) continue;
-                            const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
-                            const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
-                            float w = 0;
-                            const V var = interpolate<V>(t, store, baryAt(t, X, Y), w);
-                            resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
-                        }
-                    } else if constexpr (kHasPs) {
-                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf;
-                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf;
-                        const float zCentre = sampleCount == 1 ? zSample[0]
-                                                               : clampDepth(depthAt(t, baryAt(t, X, Y)), vp.minDepth, vp.maxDepth);
-                        resolveSamples(pixelMask, 0, centre[p], centreW[p], float(px) + 0.5f, float(py) + 0.5f, zCentre);
-                    } else {
-                        resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
                     }
+                    for (int i = 0; i < 3; ++i) eQuadRow[i] += 2 * stepY[i];
                 }
             }
         }
@@ -309,9 +506,11 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         throw std::invalid_argument("draw: index count " + std::to_string(indices.size()) + " is not a multiple of 3");
 
     execute([&] {
-        // Vertex stage: every vertex once (a pure function, so parallel is deterministic).
-        std::vector<VertexOutput<V>> vsOut(vertices.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size(), 1024),
+        // Vertex stage: every vertex once (a pure function, so where it runs does not change
+        // its result). Non-indexed draws shade each vertex inside setup, where it is used
+        // once; indexed draws shade all vertices first, in parallel, and share the results.
+        std::vector<VertexOutput<V>> vsOut(indices.empty() ? 0 : vertices.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vsOut.size(), 1024),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i != r.end(); ++i) vsOut[i] = vs(vertices[i]);
                           });
@@ -319,45 +518,65 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
 
         SetupContext ctx{&state, dt.rect, std::uint32_t(kVaryingFloatCount<V>)};
         const std::uint32_t triangleCount = std::uint32_t((indices.empty() ? vertices.size() : indices.size()) / 3);
-        std::vector<SetupTriangle> tris;
-        std::vector<float> store;
-        detail::setupAll(
-            triangleCount, ctx,
-            [&](std::uint32_t t, glm::vec4* pos, const float** var) {
-                for (int k = 0; k < 3; ++k) {
-                    const std::size_t i = indices.empty() ? std::size_t(t) * 3 + std::size_t(k) : indices[std::size_t(t) * 3 + std::size_t(k)];
-                    const VertexOutput<V>& o = i < vsOut.size() ? vsOut[i] : outOfRange;
-                    pos[k] = o.posClip;
-                    var[k] = reinterpret_cast<const float*>(&o.varyings);
+        auto fetch = [&](std::uint32_t t, VertexOutput<V>* out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                if (indices.empty()) {
+                    out[k] = vs(vertices[std::size_t(t) * 3 + k]);
+                } else {
+                    const std::size_t i = indices[std::size_t(t) * 3 + k];
+                    out[k] = i < vsOut.size() ? vsOut[i] : outOfRange;
                 }
-            },
-            tris, store, stats.setup);
+            }
+        };
 
-        const detail::TileBins bins = detail::binTriangles(tris, dt.width, dt.height, mConfig.tileSize);
-        detail::DrawContext dc{&state, dt, targets.colors, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
+        detail::DrawContext dc{&state, dt, targets.colors, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
                                standardSamplePattern(dt.sampleCount)};
-        for (int rt = 0; rt < kMaxRenderTargets; ++rt)
-            dc.blend[std::size_t(rt)] = state.blend.renderTarget[state.blend.independentBlendEnable ? std::size_t(rt) : 0];
+        for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
+            dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
+            dc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), dc.blend[rt]);
+        }
         if (targets.depthStencil) dc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
 
-        const std::size_t nTiles = bins.lists.size();
-        std::vector<detail::TileCounters> counters(nTiles);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTiles, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t tileIndex = r.begin(); tileIndex != r.end(); ++tileIndex) {
-                if (bins.lists[tileIndex].empty()) continue;
-                const std::int32_t tx = std::int32_t(tileIndex % bins.tilesX), ty = std::int32_t(tileIndex / bins.tilesX);
-                const std::int32_t ts = std::int32_t(bins.tileSize);
-                const PixelRect tile{tx * ts, ty * ts, std::min((tx + 1) * ts, std::int32_t(dt.width)),
-                                     std::min((ty + 1) * ts, std::int32_t(dt.height))};
-                detail::rasterizeTile<PS, V>(dc, tile, bins.lists[tileIndex], tris, store.data(), ps, counters[tileIndex]);
+        std::vector<detail::SetupChunk> chunks;
+        std::vector<detail::TileCounters> counters;
+        for (std::uint32_t first = 0; first < triangleCount; first += std::min(detail::kBatchTriangles, triangleCount - first)) {
+            const std::uint32_t end = first + std::min(detail::kBatchTriangles, triangleCount - first);
+            detail::setupAll<V>(first, end, ctx, fetch, chunks, stats.setup);
+            const detail::TileBins bins = detail::binTriangles(chunks, dt.width, dt.height, mConfig.tileSize);
+            const std::size_t nTiles = bins.tileCount();
+            counters.resize(nTiles);
+            auto rasterizeTiles = [&]<DepthPath kDepth, bool kSingleSample>() {
+                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTiles, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+                    for (std::size_t tileIndex = r.begin(); tileIndex != r.end(); ++tileIndex) {
+                        const std::span<const detail::TriangleRef> list(bins.refs.data() + bins.offsets[tileIndex],
+                                                                        bins.offsets[tileIndex + 1] - bins.offsets[tileIndex]);
+                        if (list.empty()) continue;
+                        const std::int32_t tx = std::int32_t(tileIndex % bins.tilesX), ty = std::int32_t(tileIndex / bins.tilesX);
+                        const std::int32_t ts = std::int32_t(bins.tileSize);
+                        const PixelRect tile{tx * ts, ty * ts, std::min((tx + 1) * ts, std::int32_t(dt.width)),
+                                             std::min((ty + 1) * ts, std::int32_t(dt.height))};
+                        detail::rasterizeTile<PS, V, kDepth, kSingleSample>(dc, tile, list, chunks, ps, counters[tileIndex]);
+                    }
+                });
+            };
+            // One instantiation per DepthPath and single/multi-sample; chosen here, once per draw.
+            auto rasterizeAll = [&]<DepthPath kDepth>() {
+                if (dt.sampleCount == 1) rasterizeTiles.template operator()<kDepth, true>();
+                else rasterizeTiles.template operator()<kDepth, false>();
+            };
+            switch (dc.ds.path()) {
+            case DepthPath::Off: rasterizeAll.template operator()<DepthPath::Off>(); break;
+            case DepthPath::D32: rasterizeAll.template operator()<DepthPath::D32>(); break;
+            case DepthPath::D24: rasterizeAll.template operator()<DepthPath::D24>(); break;
+            case DepthPath::General: rasterizeAll.template operator()<DepthPath::General>(); break;
             }
-        });
-        for (std::size_t i = 0; i < nTiles; ++i) {
-            stats.binnedTileTriangles += bins.lists[i].size();
-            stats.quads += counters[i].quads;
-            stats.psInvocations += counters[i].psInvocations;
-            stats.samplesPassed += counters[i].samplesPassed;
+            stats.binnedTileTriangles += bins.refs.size();
+        }
+        for (const detail::TileCounters& c : counters) {
+            stats.quads += c.quads;
+            stats.psInvocations += c.psInvocations;
+            stats.samplesPassed += c.samplesPassed;
         }
     });
     if (query && query->active()) query->add(stats.samplesPassed);
