@@ -166,11 +166,33 @@ void BM_Llvmpipe(benchmark::State& state) {
 }
 #endif
 
+// Thread counts to measure: TESSERA_BENCH_THREADS="1,2,4,8,16" (default "1,2", this machine's
+// cores). Bad entries are an error, not silently skipped.
+std::vector<int> benchThreadCounts() {
+    const char* env = std::getenv("TESSERA_BENCH_THREADS");
+    if (!env || !*env) return {1, 2};
+    std::vector<int> counts;
+    std::string list(env);
+    for (std::size_t start = 0; start <= list.size();) {
+        const std::size_t end = std::min(list.find(',', start), list.size());
+        const std::string item = list.substr(start, end - start);
+        char* tail = nullptr;
+        const long n = std::strtol(item.c_str(), &tail, 10);
+        if (item.empty() || *tail != '\0' || n < 1 || n > 256) {
+            std::fprintf(stderr, "TESSERA_BENCH_THREADS: '%s' is not a thread count in 1..256\n", item.c_str());
+            std::exit(2);
+        }
+        counts.push_back(int(n));
+        start = end + 1;
+    }
+    return counts;
+}
+
 // Iteration counts fixed so that a full run stays in a few minutes on 2 cores.
-void registerAll() {
+void registerAll(const std::vector<int>& threadCounts) {
     const int iterations[] = {5, 10, 30, 5};
     for (int w : {kTiny, kMedium, kFullScreen, kTinyD24})
-        for (int t : {1, 2}) {
+        for (int t : threadCounts) {
             const std::string name = std::string("tessera/") + kWorkloadNames[w] + "/threads:" + std::to_string(t);
             benchmark::RegisterBenchmark(name.c_str(), BM_Tessera)
                 ->Args({w, t})
@@ -180,7 +202,7 @@ void registerAll() {
         }
 #if TESSERA_HAVE_GL_PEER
     for (int w : {kTiny, kMedium, kFullScreen})
-        for (int t : {1, 2}) {
+        for (int t : threadCounts) {
             const std::string name = std::string("llvmpipe/") + kWorkloadNames[w] + "/threads:" + std::to_string(t);
             benchmark::RegisterBenchmark(name.c_str(), BM_Llvmpipe)
                 ->Args({w, t})
@@ -204,11 +226,11 @@ public:
     }
 };
 
-void printSummary(const std::map<std::string, double>& spf) {
+void printSummary(const std::map<std::string, double>& spf, const std::vector<int>& threadCounts) {
     std::printf("\n%-20s %3s | %9s %9s %9s | %9s %9s %9s | %6s\n", "workload", "thr", "tess ms", "Mtri/s", "Mpix/s",
                 "llvmp ms", "Mtri/s", "Mpix/s", "ratio");
     for (int w : {kTiny, kMedium, kFullScreen, kTinyD24})
-        for (int t : {1, 2}) {
+        for (int t : threadCounts) {
             const std::string suffix = std::string(kWorkloadNames[w]) + "/threads:" + std::to_string(t);
             const auto tess = spf.find("tessera/" + suffix);
             const auto lp = spf.find("llvmpipe/" + suffix);
@@ -229,12 +251,13 @@ void printSummary(const std::map<std::string, double>& spf) {
 } // namespace
 
 int main(int argc, char** argv) {
-    registerAll();
+    const std::vector<int> threadCounts = benchThreadCounts();
+    registerAll(threadCounts);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     SummaryReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
-    printSummary(reporter.secondsPerFrame);
+    printSummary(reporter.secondsPerFrame, threadCounts);
     benchmark::Shutdown();
     return 0;
 }

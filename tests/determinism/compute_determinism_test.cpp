@@ -1,5 +1,5 @@
 // Determinism of the compute-shader emulation: GroupOrder::Parallel kernels (order-independent
-// by contract) and ordered appends give byte-identical outputs under 1, 2 and 7 oneTBB threads
+// by contract) and ordered appends give byte-identical outputs under 1, 2, 7 and 16 oneTBB threads
 // (tbb::global_control) and equal the GroupOrder::Serial result.
 #include <tessera/compute/dispatch.h>
 #include <tessera/compute/interlocked.h>
@@ -152,7 +152,7 @@ Outputs runAll(tc::GroupOrder order) {
 
 } // namespace
 
-TEST_CASE("compute determinism: Parallel dispatches are identical at 1, 2 and 7 threads") {
+TEST_CASE("compute determinism: Parallel dispatches are identical at 1, 2, 7 and 16 threads") {
     const Outputs serial = runAll(tc::GroupOrder::Serial);
     // The serial reference is itself right: the histogram counts every pixel once, and the
     // appended ranges are contiguous from the counter's start.
@@ -167,7 +167,7 @@ TEST_CASE("compute determinism: Parallel dispatches are identical at 1, 2 and 7 
     CHECK(serial.counterValue == next);
     CHECK(next > 3 + 1000); // about a fifth of 56k pixels appended
 
-    for (const int threads : {1, 2, 7}) {
+    for (const int threads : {1, 2, 7, 16}) {
         CAPTURE(threads);
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                   static_cast<std::size_t>(threads));

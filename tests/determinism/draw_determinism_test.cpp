@@ -1,5 +1,5 @@
 // Determinism: one frame of overlapping, clipped, blended and stencilled draws rendered at
-// 1, 2 and 7 worker threads and two tile sizes must give identical bytes in every buffer
+// 1, 2, 7 and 16 worker threads and two tile sizes must give identical bytes in every buffer
 // (two colour targets, depth-stencil), single-sampled and with 4x MSAA.
 #include <doctest/doctest.h>
 
@@ -72,7 +72,7 @@ bool sameBytes(const Surface& a, const Surface& b) {
 
 } // namespace
 
-TEST_CASE("every buffer is identical at 1, 2 and 7 threads and at tile sizes 16 and 64") {
+TEST_CASE("every buffer is identical at 1, 2, 7 and 16 threads and at tile sizes 16 and 64") {
     for (const std::uint32_t samples : {1u, 4u}) {
         const Frame ref = renderScene(1, 16, samples);
         // The scene must exercise the buffers (not trivially equal): some stencil set, colour changed.
@@ -80,7 +80,7 @@ TEST_CASE("every buffer is identical at 1, 2 and 7 threads and at tile sizes 16 
         for (std::uint32_t y = 0; y < ref.depth.height(); ++y)
             for (std::uint32_t x = 0; x < ref.depth.width(); ++x) stencilSet += ref.depth.loadStencil(x, y) != 0;
         CHECK(stencilSet > 1000);
-        for (const std::uint32_t threads : {1u, 2u, 7u}) {
+        for (const std::uint32_t threads : {1u, 2u, 7u, 16u}) {
             for (const std::uint32_t tile : {16u, 64u}) {
                 const Frame f = renderScene(threads, tile, samples);
                 INFO("samples " << samples << ", threads " << threads << ", tile " << tile);
