@@ -72,6 +72,38 @@ inline void checkTexture2D(std::size_t dataSize, std::uint32_t width, std::uint3
     }
 }
 
+// The global Interlocked* members of an RW view, written once for both views. Derived
+// provides `T* elementAt(Address) const noexcept` (nullptr out of bounds); each op returns the
+// original value (0 out of bounds). The requires-clauses keep them off non-atomic T.
+template<class Derived, class T, class Address>
+class UavAtomics {
+public:
+    T interlockedAdd(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Add, value, original); }
+    T interlockedMin(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Min, value, original); }
+    T interlockedMax(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Max, value, original); }
+    T interlockedAnd(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::And, value, original); }
+    T interlockedOr(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Or, value, original); }
+    T interlockedXor(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Xor, value, original); }
+    T interlockedExchange(Address at, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return rmw(at, AtomicOp::Exchange, value, original); }
+    T interlockedCompareExchange(Address at, T compare, T value, T* original = nullptr) const noexcept
+        requires InterlockedScalar<T> { return uavCompareExchange(element(at), compare, value, original); }
+    void interlockedCompareStore(Address at, T compare, T value) const noexcept
+        requires InterlockedScalar<T> { uavCompareExchange(element(at), compare, value, static_cast<T*>(nullptr)); }
+
+private:
+    T* element(Address at) const noexcept { return static_cast<const Derived&>(*this).elementAt(at); }
+    T rmw(Address at, AtomicOp op, T value, T* original) const noexcept {
+        return uavRmw(element(at), op, value, original);
+    }
+};
+
 } // namespace detail
 
 // StructuredBuffer<T> (SRV t#): read-only array of T.
@@ -98,7 +130,7 @@ private:
 // Non-atomic writes to one element from two groups that may run concurrently are a data race,
 // exactly as on a GPU: a kernel run with GroupOrder::Parallel must not do that.
 template<class T>
-class RWStructuredBuffer {
+class RWStructuredBuffer : public detail::UavAtomics<RWStructuredBuffer<T>, T, std::uint32_t> {
 public:
     RWStructuredBuffer() = default;
     explicit RWStructuredBuffer(std::span<T> data)
@@ -114,38 +146,11 @@ public:
         if (index < mSize) mData[index] = value;
     }
 
-    // Global Interlocked* on element `index`; each returns the original (0 out of bounds).
-    T interlockedAdd(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::Add, value, original); }
-    T interlockedMin(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::Min, value, original); }
-    T interlockedMax(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::Max, value, original); }
-    T interlockedAnd(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::And, value, original); }
-    T interlockedOr(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::Or, value, original); }
-    T interlockedXor(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(index, detail::AtomicOp::Xor, value, original); }
-    T interlockedExchange(std::uint32_t index, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> {
-        return rmw(index, detail::AtomicOp::Exchange, value, original);
-    }
-    T interlockedCompareExchange(std::uint32_t index, T compare, T value,
-                                 T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> {
-        return detail::uavCompareExchange(element(index), compare, value, original);
-    }
-    void interlockedCompareStore(std::uint32_t index, T compare, T value) const noexcept
-        requires InterlockedScalar<T> {
-        detail::uavCompareExchange(element(index), compare, value, static_cast<T*>(nullptr));
-    }
+    // Global Interlocked*: interlockedAdd(index, value) etc., from detail::UavAtomics.
 
 private:
-    T* element(std::uint32_t index) const noexcept { return index < mSize ? mData + index : nullptr; }
-    T rmw(std::uint32_t index, detail::AtomicOp op, T value, T* original) const noexcept {
-        return detail::uavRmw(element(index), op, value, original);
-    }
+    friend class detail::UavAtomics<RWStructuredBuffer<T>, T, std::uint32_t>;
+    T* elementAt(std::uint32_t index) const noexcept { return index < mSize ? mData + index : nullptr; }
 
     T* mData = nullptr;
     std::uint32_t mSize = 0;
@@ -182,7 +187,7 @@ private:
 // RWTexture2D<T> (UAV u#): row-major, row 0 at the top; atomics when T is int32/uint32
 // (typed UAV with R32_UINT / R32_SINT).
 template<class T>
-class RWTexture2D {
+class RWTexture2D : public detail::UavAtomics<RWTexture2D<T>, T, glm::uvec2> {
 public:
     RWTexture2D() = default;
     RWTexture2D(std::span<T> data, std::uint32_t width, std::uint32_t height)
@@ -194,47 +199,21 @@ public:
     std::uint32_t height() const noexcept { return mHeight; }
 
     T load(std::uint32_t x, std::uint32_t y) const noexcept {
-        const T* p = texel(x, y);
+        const T* p = elementAt({x, y});
         return p != nullptr ? *p : T{};
     }
     T load(glm::uvec2 xy) const noexcept { return load(xy.x, xy.y); }
     void store(std::uint32_t x, std::uint32_t y, const T& value) const noexcept {
-        if (T* p = texel(x, y)) *p = value;
+        if (T* p = elementAt({x, y})) *p = value;
     }
     void store(glm::uvec2 xy, const T& value) const noexcept { store(xy.x, xy.y, value); }
 
-    T interlockedAdd(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::Add, value, original); }
-    T interlockedMin(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::Min, value, original); }
-    T interlockedMax(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::Max, value, original); }
-    T interlockedAnd(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::And, value, original); }
-    T interlockedOr(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::Or, value, original); }
-    T interlockedXor(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> { return rmw(xy, detail::AtomicOp::Xor, value, original); }
-    T interlockedExchange(glm::uvec2 xy, T value, T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> {
-        return rmw(xy, detail::AtomicOp::Exchange, value, original);
-    }
-    T interlockedCompareExchange(glm::uvec2 xy, T compare, T value,
-                                 T* original = nullptr) const noexcept
-        requires InterlockedScalar<T> {
-        return detail::uavCompareExchange(texel(xy.x, xy.y), compare, value, original);
-    }
-    void interlockedCompareStore(glm::uvec2 xy, T compare, T value) const noexcept
-        requires InterlockedScalar<T> {
-        detail::uavCompareExchange(texel(xy.x, xy.y), compare, value, static_cast<T*>(nullptr));
-    }
+    // Global Interlocked*: interlockedAdd(xy, value) etc., from detail::UavAtomics.
 
 private:
-    T* texel(std::uint32_t x, std::uint32_t y) const noexcept {
-        return x < mWidth && y < mHeight ? mData + (std::size_t{y} * mWidth + x) : nullptr;
-    }
-    T rmw(glm::uvec2 xy, detail::AtomicOp op, T value, T* original) const noexcept {
-        return detail::uavRmw(texel(xy.x, xy.y), op, value, original);
+    friend class detail::UavAtomics<RWTexture2D<T>, T, glm::uvec2>;
+    T* elementAt(glm::uvec2 xy) const noexcept {
+        return xy.x < mWidth && xy.y < mHeight ? mData + (std::size_t{xy.y} * mWidth + xy.x) : nullptr;
     }
 
     T* mData = nullptr;
