@@ -1,0 +1,29 @@
+// A camera: a view transform and a vertical-FOV perspective (or orthographic) projection.
+// Projection matrices are built by the technique (D3D or the demo's GL form, per its options).
+#pragma once
+
+#include <string>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace tessera {
+
+enum class ProjectionKind { Perspective, Orthographic };
+
+struct Camera {
+    std::string name;
+    glm::vec3 positionWorld{0.0f};
+    glm::quat orientationWorld{1.0f, 0.0f, 0.0f, 0.0f};  // camera looks down its local -Z, +Y up (glTF)
+    ProjectionKind projection = ProjectionKind::Perspective;
+    float fovYDeg = 45.0f;     // perspective: vertical field of view, degrees, in (0, 180)
+    float xMag = 1.0f, yMag = 1.0f;  // orthographic half extents (glTF xmag/ymag)
+    float nearZ = 0.1f;        // distance to the near plane, > 0
+    float farZ = 1000.0f;      // distance to the far plane, > nearZ (glTF infinite: +inf)
+    float aspect = 0.0f;       // width / height; 0 = take it from the render resolution
+
+    // View matrix: world -> view (right-handed, camera at the origin looking down -Z).
+    glm::mat4 viewFromWorld() const;
+};
+
+} // namespace tessera

@@ -1,0 +1,24 @@
+// glTF 2.0 (.gltf / .glb) through tinygltf, with OpenImageIO as tinygltf's image loader:
+// meshes (all index widths, normalized integer attributes), the node hierarchy, cameras,
+// materials, textures and samplers, KHR_lights_punctual, tangents generated when missing.
+#pragma once
+
+#include <filesystem>
+
+#include <glm/glm.hpp>
+
+#include <tessera/scene/scene.h>
+
+namespace tessera {
+
+struct GltfLoadOptions {
+    bool loadImages = true;          // false: keep texture/image records, leave pixels empty (`tessera info`)
+    glm::mat4 worldFromFile{1.0f};   // applied above the glTF's root nodes (the scene file's transform)
+    int sceneIndex = -1;             // glTF scene to instantiate; -1: the file's default scene (or 0)
+};
+
+// Appends the file's contents to `scene` (indices into scene's vectors are offset accordingly).
+// Throws InputError naming the file and the JSON path ("/accessors/3/count", ...) on bad input.
+void loadGltf(const std::filesystem::path& file, Scene& scene, const GltfLoadOptions& options = {});
+
+} // namespace tessera

@@ -1,0 +1,28 @@
+// Lights in tessera's world units: point, spot and directional, the union of what
+// KHR_lights_punctual, the scene file's explicit lists and its generators describe. The 3dgep
+// shading model reads range and spotHalfAngleDeg exactly as its Light struct does (seed 000).
+#pragma once
+
+#include <limits>
+#include <string>
+
+#include <glm/glm.hpp>
+
+namespace tessera {
+
+enum class LightType { Point = 0, Spot = 1, Directional = 2 };  // 3dgep's POINT, SPOT, DIRECTIONAL
+
+struct Light {
+    LightType type = LightType::Point;
+    glm::vec3 positionWorld{0.0f};
+    glm::vec3 directionWorld{0.0f, 0.0f, -1.0f};  // unit; spot and directional (direction light travels)
+    glm::vec3 color{1.0f};                         // linear RGB
+    float intensity = 1.0f;
+    float range = std::numeric_limits<float>::infinity();  // world units; KHR: absent = infinite
+    float spotHalfAngleDeg = 45.0f;       // 3dgep SpotlightAngle: the cone's half angle (outer), degrees
+    float spotInnerHalfAngleDeg = 0.0f;   // KHR innerConeAngle in degrees (3dgep ignores it)
+    bool enabled = true;
+    std::string name;
+};
+
+} // namespace tessera

@@ -1,0 +1,50 @@
+// The scene file (JSON; schema in scenes/scene.schema.json): glTF files with transforms, the
+// camera, the resolution, the technique and its options, the precision mode, and lights
+// (explicit lists, the glTFs' own KHR_lights_punctual lights, and seeded generators).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include <tessera/scene/light_generator.h>
+#include <tessera/scene/precision.h>
+#include <tessera/scene/scene.h>
+
+namespace tessera {
+
+struct ModelRef {
+    std::filesystem::path path;      // resolved against the scene file's folder
+    glm::mat4 worldFromFile{1.0f};   // from "translation" / "rotation" (quat xyzw) / "scale" (number or vec3)
+};
+
+struct SceneDescription {
+    std::filesystem::path file;      // the scene file itself (for messages)
+    std::vector<ModelRef> models;
+    Camera camera;                   // "camera"; if absent: the first glTF camera, else a default framing
+    bool cameraFromGltf = false;     // true when "camera" was {"gltf": N}
+    int gltfCameraIndex = -1;
+    std::uint32_t width = 1280, height = 720;   // "resolution": [W, H], 1..16384 each
+    std::string technique = "forward";          // "technique": an id from the technique registry
+    nlohmann::json techniqueOptions = nlohmann::json::object();  // "options": passed to the technique verbatim
+    Precision precision = Precision::Exact;     // "precision"
+    std::vector<Light> explicitLights;          // "lights": [...]
+    bool useGltfLights = false;                 // "gltfLights": {"enabled": true, ...}
+    float gltfLightDefaultRange = 0.0f;         // "gltfLights": {"defaultRange": R}: replaces infinite KHR ranges (0: keep inf)
+    std::vector<LightGeneratorSpec> generators; // "generate": [...]
+};
+
+// Parses and validates a scene file. Throws InputError naming the file and the key path
+// ("/lights/2/range: -1 is negative", "/resolution/0: 0 is outside 1..16384").
+SceneDescription parseSceneFile(const std::filesystem::path& file);
+// Same, from JSON text; `file` is used for messages and to resolve relative model paths.
+SceneDescription parseSceneJson(const std::string& text, const std::filesystem::path& file);
+
+// Loads the models and builds the light list: explicit lights, then the glTFs' lights (when
+// enabled), then each generator's lights in order. Throws InputError on bad input.
+Scene loadScene(const SceneDescription& description, bool loadImages = true);
+
+} // namespace tessera
