@@ -13,7 +13,7 @@
 #include <tessera/state/viewport.h>
 
 #include "builtin_scene.h"
-#include "image_out.h"
+#include <tessera/io/image_writer.h>
 
 namespace {
 
@@ -96,7 +96,7 @@ int render(const std::vector<std::string_view>& args) {
         tessera::BufferRegistry registry;
         const tessera::Frame frame = tessera::cli::buildBuiltinScene(device, opt, drawStats);
         const auto timings = frame.run(registry);
-        tessera::cli::writeSurface(registry.get("backbuffer"), out);
+        tessera::writeSurface(registry.get("backbuffer"), out);
         if (!dumpDir.empty()) {
             std::filesystem::create_directories(dumpDir);
             for (const std::string& name : registry.names()) {
@@ -104,8 +104,8 @@ int render(const std::vector<std::string_view>& args) {
                 const tessera::FormatInfo& info = tessera::formatInfo(s.format());
                 const bool png = s.format() == tessera::Format::R8G8B8A8_UNORM || s.format() == tessera::Format::R8G8B8A8_UNORM_SRGB;
                 const std::string base = (std::filesystem::path(dumpDir) / name).string();
-                tessera::cli::writeSurface(s, base + (png ? ".png" : info.kind == tessera::FormatKind::Uint ? ".tif" : ".exr"));
-                if (info.hasStencil) tessera::cli::writeStencil(s, base + ".stencil.png");
+                tessera::writeSurface(s, base + (png ? ".png" : info.kind == tessera::FormatKind::Uint ? ".tif" : ".exr"));
+                if (info.hasStencil) tessera::writeStencil(s, base + ".stencil.png");
             }
         }
         if (stats) {

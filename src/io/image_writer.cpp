@@ -1,0 +1,127 @@
+// OpenImageIO output of surfaces: PNG/TIFF bytes for 8-bit UNORM, EXR (half or float) for
+// shader-visible values, TIFF uint32 for UINT data; each written to "<stem>.partial<ext>" and
+// renamed into place on success, removed on failure.
+#include <tessera/io/image_writer.h>
+
+#include <cctype>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+
+namespace tessera {
+namespace {
+
+std::string lowerExtension(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+void writeImage(const std::filesystem::path& target, int width, int height, int channels, OIIO::TypeDesc fileType,
+                OIIO::TypeDesc memType, const void* pixels, const std::vector<std::string>& channelNames) {
+    const std::filesystem::path tmp = target.parent_path() / (target.stem().string() + ".partial" + target.extension().string());
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throw std::runtime_error(target.string() + ": no image writer for this extension (" + OIIO::geterror() + ")");
+    OIIO::ImageSpec spec(width, height, channels, fileType);
+    spec.channelnames = channelNames;
+    // Pixels are written as stored: OIIO would otherwise treat RGBA as premultiplied and divide
+    // by alpha on the way into PNG (PNG holds unassociated alpha).
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    spec.alpha_channel = -1;
+    for (int c = 0; c < channels; ++c)
+        if (channelNames[std::size_t(c)] == "A") spec.alpha_channel = c;
+    bool ok = out->open(tmp.string(), spec) && out->write_image(memType, pixels);
+    ok = out->close() && ok;
+    std::error_code ec;
+    if (!ok) {
+        const std::string err = out->geterror();
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(target.string() + ": " + (err.empty() ? std::string("write failed") : err));
+    }
+    std::filesystem::rename(tmp, target, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw std::runtime_error(target.string() + ": cannot rename into place: " + ec.message());
+    }
+}
+
+const std::vector<std::string>& colorChannelNames(std::uint32_t count) {
+    static const std::vector<std::string> names[4] = {{"R"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+    return names[count - 1];
+}
+
+void checkSample(const Surface& s, std::uint32_t sample, const std::filesystem::path& path) {
+    if (sample >= s.sampleCount())
+        throw std::runtime_error(path.string() + ": sample " + std::to_string(sample) + " of a " +
+                                 std::to_string(s.sampleCount()) + "-sample surface");
+}
+
+} // namespace
+
+std::string losslessExtension(Format format) {
+    const FormatInfo& info = formatInfo(format);
+    if (format == Format::R8G8B8A8_UNORM || format == Format::R8G8B8A8_UNORM_SRGB) return ".png";
+    if (info.kind == FormatKind::Uint) return ".tif";
+    return ".exr";
+}
+
+void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelType exrType, std::uint32_t sample) {
+    checkSample(s, sample, path);
+    const int w = int(s.width()), h = int(s.height());
+    const FormatInfo& info = formatInfo(s.format());
+    const std::string ext = lowerExtension(path);
+    const bool rgba8 = s.format() == Format::R8G8B8A8_UNORM || s.format() == Format::R8G8B8A8_UNORM_SRGB;
+    if (ext == ".exr") {
+        const std::uint32_t ch = info.hasDepth ? 1 : info.channels;
+        std::vector<float> px(std::size_t(w) * h * ch);
+        for (std::uint32_t y = 0; y < s.height(); ++y)
+            for (std::uint32_t x = 0; x < s.width(); ++x) {
+                float* dst = &px[(std::size_t(y) * w + x) * ch];
+                if (info.hasDepth) {
+                    dst[0] = s.loadDepth(x, y, sample);
+                } else if (info.kind == FormatKind::Uint) {
+                    throw std::runtime_error(path.string() + ": " + std::string(info.name) +
+                                             " holds integers; write it as .tif (uint32 channels)");
+                } else {
+                    const glm::vec4 v = s.load(x, y, sample);
+                    for (std::uint32_t c = 0; c < ch; ++c) dst[c] = v[int(c)];
+                }
+            }
+        const OIIO::TypeDesc fileType = exrType == ExrPixelType::Half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+        writeImage(path, w, h, int(ch), fileType, OIIO::TypeDesc::FLOAT, px.data(),
+                   info.hasDepth ? std::vector<std::string>{"Z"} : colorChannelNames(ch));
+    } else if (rgba8 && (ext == ".png" || ext == ".tif" || ext == ".tiff")) {
+        std::vector<std::uint8_t> px(std::size_t(w) * h * 4);
+        for (std::uint32_t y = 0; y < s.height(); ++y)
+            for (std::uint32_t x = 0; x < s.width(); ++x)
+                for (int c = 0; c < 4; ++c)
+                    px[(std::size_t(y) * w + x) * 4 + std::size_t(c)] = std::to_integer<std::uint8_t>(s.texel(x, y, sample)[c]);
+        writeImage(path, w, h, 4, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, px.data(), colorChannelNames(4));
+    } else if (info.kind == FormatKind::Uint && (ext == ".tif" || ext == ".tiff")) {
+        const std::uint32_t ch = info.channels;
+        std::vector<std::uint32_t> px(std::size_t(w) * h * ch);
+        for (std::uint32_t y = 0; y < s.height(); ++y)
+            for (std::uint32_t x = 0; x < s.width(); ++x) {
+                const glm::uvec4 v = s.loadUint(x, y, sample);
+                for (std::uint32_t c = 0; c < ch; ++c) px[(std::size_t(y) * w + x) * ch + c] = v[int(c)];
+            }
+        writeImage(path, w, h, int(ch), OIIO::TypeDesc::UINT32, OIIO::TypeDesc::UINT32, px.data(), colorChannelNames(ch));
+    } else {
+        throw std::runtime_error(path.string() + ": cannot store " + std::string(info.name) + " as '" + ext +
+                                 "' without loss (use " + losslessExtension(s.format()) + ")");
+    }
+}
+
+void writeStencil(const Surface& s, const std::filesystem::path& path, std::uint32_t sample) {
+    checkSample(s, sample, path);
+    if (!formatInfo(s.format()).hasStencil)
+        throw std::runtime_error(path.string() + ": " + std::string(formatInfo(s.format()).name) + " has no stencil");
+    std::vector<std::uint8_t> px(std::size_t(s.width()) * s.height());
+    for (std::uint32_t y = 0; y < s.height(); ++y)
+        for (std::uint32_t x = 0; x < s.width(); ++x) px[std::size_t(y) * s.width() + x] = s.loadStencil(x, y, sample);
+    writeImage(path, int(s.width()), int(s.height()), 1, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, px.data(), {"S"});
+}
+
+} // namespace tessera
