@@ -8,6 +8,8 @@ packages=(
   cmake ninja-build g++ pkg-config
   libglm-dev libopenimageio-dev openimageio-tools libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev doctest-dev libbenchmark-dev
+  # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
+  assimp-testmodels
   # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
 )

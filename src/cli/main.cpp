@@ -1,48 +1,81 @@
-// The `tessera` command: `tessera render` draws the built-in scene (until the glTF scene
-// loader lands) and writes the back buffer; `--dump DIR` writes every named buffer.
-// Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
+// The `tessera` command: `render` draws a scene file (or a glTF, or the built-in scene) with a
+// technique and writes the back buffer; `list` shows techniques and bundled scenes; `info`
+// describes a scene. Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
+#include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cstdio>
-#include <cstring>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <unistd.h>
+
+#include <tessera/io/image_writer.h>
+#include <tessera/io/input_error.h>
+#include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
+#include <tessera/techniques/technique.h>
 
 #include "builtin_scene.h"
-#include <tessera/io/image_writer.h>
+#include "progress.h"
 
 namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
 
 constexpr const char* kUsage = R"(usage: tessera <command> [options]
 
 commands:
-  render     render the built-in scene and write the back buffer
-  list       list techniques and bundled scenes
-  help       show this text
+  render [SCENE]  render a scene and write the back buffer (default: the bundled scene 'default')
+  list            list techniques and bundled scenes
+  info SCENE      describe a scene: triangles, materials, lights, bounds, memory
+  help            show this text
 
-`tessera render --help` lists the render options.
+SCENE is a scene file (.json), a glTF file (.gltf/.glb), the name of a bundled scene
+(see `tessera list`), or `builtin` (a generated scene that needs no files).
+`tessera <command> --help` lists the command's options.
 )";
 
-constexpr const char* kRenderUsage = R"(usage: tessera render [options]
+constexpr const char* kRenderUsage = R"(usage: tessera render [SCENE] [options]
 
-Renders the built-in scene (lit cubes on a plane, an alpha-blended pane) and writes the
-back buffer as an image (PNG for .png, EXR for .exr).
+Renders SCENE (default: the bundled scene 'default') with its technique and writes the back
+buffer: PNG stores the 8-bit bytes as rendered, EXR the decoded values (half or float).
 
 options:
-  --out FILE        output image (default: tessera.png)
-  --width W         width in px, 1..16384 (default 640)
-  --height H        height in px, 1..16384 (default 360)
+  --technique ID    technique to use instead of the scene file's (see `tessera list`)
+  --out FILE        output image, .png or .exr (default: tessera.png)
+  --exr TYPE        EXR pixel type: half or float (default: float)
+  --width W         width in px, 1..16384 (default: the scene file's)
+  --height H        height in px, 1..16384 (default: the scene file's)
+  --precision MODE  reference, exact or fast (default: the scene file's, else exact)
+  --lights N        light count of every generator in the scene file, 0..1000000
   --threads N       worker threads, 0 = all cores (default 0)
   --tile T          tile size in px, even, 8..1024 (default 64)
-  --msaa S          samples per pixel: 1, 2, 4 or 8 (default 1)
-  --dump DIR        also write every named buffer into DIR (<name>.png/.exr, stencil as <name>.stencil.png)
-  --stats           print per-pass times and draw counters
-  --quiet           print nothing on success
+  --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
+  --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png)
+  --stats           print load, per-pass and frame times and draw counters
+  --progress        show a progress bar even when stderr is not a terminal
+  --quiet           print nothing on success (no progress bar either)
   --help            show this text
+)";
+
+constexpr const char* kListUsage = R"(usage: tessera list
+
+Lists the techniques (with their source and whether they are implemented) and the bundled
+scenes (scene files in the scenes folder; TESSERA_SCENES overrides where that is).
+)";
+
+constexpr const char* kInfoUsage = R"(usage: tessera info SCENE
+
+Loads SCENE without decoding images and prints its triangles, meshes, instances, materials,
+textures, cameras, lights by type, world bounds and an estimate of the memory a render needs.
 )";
 
 struct UsageError : std::runtime_error {
@@ -58,70 +91,319 @@ std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint3
     return std::uint32_t(v);
 }
 
-int render(const std::vector<std::string_view>& args) {
-    std::string out = "tessera.png", dumpDir;
-    tessera::cli::BuiltinSceneOptions opt;
-    tessera::DeviceConfig cfg;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Where bundled scenes live: $TESSERA_SCENES, else <prefix>/share/tessera/scenes beside an
+// installed binary, else the source tree's scenes/ folder this binary was built from.
+fs::path bundledScenesDir() {
+    if (const char* env = std::getenv("TESSERA_SCENES"); env && *env) return env;
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path installed = exe.parent_path().parent_path() / "share" / "tessera" / "scenes";
+        if (fs::is_directory(installed, ec)) return installed;
+    }
+    return TESSERA_SOURCE_SCENES;
+}
+
+// A scene argument as a file: an existing path, else a bundled scene name.
+fs::path resolveScene(const std::string& arg) {
+    std::error_code ec;
+    if (fs::exists(arg, ec)) return arg;
+    if (arg.find('/') == std::string::npos) {
+        const fs::path bundled = bundledScenesDir() / (fs::path(arg).extension() == ".json" ? arg : arg + ".json");
+        if (fs::exists(bundled, ec)) return bundled;
+    }
+    throw tessera::InputError(arg + ": no such file, and no bundled scene of that name (see `tessera list`)");
+}
+
+bool isGltf(const fs::path& p) {
+    const std::string ext = p.extension().string();
+    return ext == ".gltf" || ext == ".glb";
+}
+
+tessera::SceneDescription describe(const fs::path& file) {
+    if (isGltf(file)) {
+        tessera::SceneDescription d;
+        d.file = file;
+        d.models.push_back({file, glm::mat4(1.0f)});
+        d.technique = "preview";
+        return d;
+    }
+    if (file.extension() != ".json")
+        throw tessera::InputError(file.string() + ": not a scene file (.json) or glTF file (.gltf, .glb)");
+    return tessera::parseSceneFile(file);
+}
+
+struct RenderOptions {
+    std::string scene = "default";
+    std::string technique;
+    std::string out = "tessera.png";
+    std::string dumpDir;
+    tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
+    std::uint32_t width = 0, height = 0;  // 0: the scene's
+    std::optional<tessera::Precision> precision;
+    std::optional<std::uint32_t> lights;
+    tessera::DeviceConfig device;
+    std::uint32_t msaa = 1;
     bool stats = false, quiet = false;
+    tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
+};
+
+RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& help) {
+    RenderOptions o;
+    bool sceneGiven = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string_view a = args[i];
         auto value = [&]() -> std::string_view {
             if (i + 1 >= args.size()) throw UsageError(std::string(a) + " needs a value");
             return args[++i];
         };
-        if (a == "--help" || a == "-h") {
-            std::fputs(kRenderUsage, stdout);
-            return 0;
-        } else if (a == "--out") out = std::string(value());
-        else if (a == "--width") opt.width = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
-        else if (a == "--height") opt.height = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
-        else if (a == "--threads") cfg.threads = parseUint(a, value(), 0, 256);
+        if (a == "--help" || a == "-h") help = true;
+        else if (a == "--technique") o.technique = std::string(value());
+        else if (a == "--out") o.out = std::string(value());
+        else if (a == "--exr") {
+            const std::string_view t = value();
+            if (t == "half") o.exrType = tessera::ExrPixelType::Half;
+            else if (t == "float") o.exrType = tessera::ExrPixelType::Float;
+            else throw UsageError("--exr: '" + std::string(t) + "' is not half or float");
+        } else if (a == "--width") o.width = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
+        else if (a == "--height") o.height = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
+        else if (a == "--precision") {
+            const std::string_view p = value();
+            o.precision = tessera::parsePrecision(p);
+            if (!o.precision) throw UsageError("--precision: '" + std::string(p) + "' is not reference, exact or fast");
+        } else if (a == "--lights") o.lights = parseUint(a, value(), 0, 1000000);
+        else if (a == "--threads") o.device.threads = parseUint(a, value(), 0, 256);
         else if (a == "--tile") {
-            cfg.tileSize = parseUint(a, value(), 8, 1024);
-            if (cfg.tileSize % 2) throw UsageError("--tile: " + std::to_string(cfg.tileSize) + " is odd; tiles hold whole 2x2 quads");
+            o.device.tileSize = parseUint(a, value(), 8, 1024);
+            if (o.device.tileSize % 2) throw UsageError("--tile: " + std::to_string(o.device.tileSize) + " is odd; tiles hold whole 2x2 quads");
         } else if (a == "--msaa") {
-            opt.sampleCount = parseUint(a, value(), 1, 8);
-            if (opt.sampleCount != 1 && opt.sampleCount != 2 && opt.sampleCount != 4 && opt.sampleCount != 8)
-                throw UsageError("--msaa: " + std::to_string(opt.sampleCount) + " is not 1, 2, 4 or 8");
-        } else if (a == "--dump") dumpDir = std::string(value());
-        else if (a == "--stats") stats = true;
-        else if (a == "--quiet") quiet = true;
-        else throw UsageError("unknown option '" + std::string(a) + "' (see tessera render --help)");
+            o.msaa = parseUint(a, value(), 1, 8);
+            if (o.msaa != 1 && o.msaa != 2 && o.msaa != 4 && o.msaa != 8)
+                throw UsageError("--msaa: " + std::to_string(o.msaa) + " is not 1, 2, 4 or 8");
+        } else if (a == "--dump") o.dumpDir = std::string(value());
+        else if (a == "--stats") o.stats = true;
+        else if (a == "--quiet") o.quiet = true;
+        else if (a == "--progress") o.progress = tessera::cli::Progress::Mode::On;
+        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera render --help)");
+        else if (sceneGiven) throw UsageError("one scene only: '" + o.scene + "' and '" + std::string(a) + "'");
+        else {
+            o.scene = std::string(a);
+            sceneGiven = true;
+        }
     }
-    if (std::filesystem::path(out).extension().empty()) throw UsageError("--out: '" + out + "' has no extension (.png or .exr)");
+    if (o.quiet) o.progress = tessera::cli::Progress::Mode::Off;
+    const std::string ext = fs::path(o.out).extension().string();
+    if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
+    if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
+    return o;
+}
+
+void writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
+    tessera::writeSurface(*registry.find(tessera::kBackBufferName), o.out, o.exrType);
+    if (o.dumpDir.empty()) return;
+    fs::create_directories(o.dumpDir);
+    for (const std::string& name : registry.names()) {
+        const tessera::Surface& s = *registry.find(name);
+        const fs::path base = fs::path(o.dumpDir) / name;
+        tessera::writeSurface(s, base.string() + tessera::losslessExtension(s.format()));
+        if (tessera::formatInfo(s.format()).hasStencil) tessera::writeStencil(s, base.string() + ".stencil.png");
+    }
+}
+
+void printDrawStats(const tessera::DrawStats& s) {
+    std::printf("triangles in %llu, clipped %llu, culled %llu, rasterized %llu; quads %llu; ps invocations %llu; samples passed %llu\n",
+                (unsigned long long)s.setup.trianglesIn, (unsigned long long)s.setup.clipped,
+                (unsigned long long)(s.setup.culledFacing + s.setup.culledDegenerate + s.setup.culledNonFinite),
+                (unsigned long long)s.setup.trianglesOut, (unsigned long long)s.quads, (unsigned long long)s.psInvocations,
+                (unsigned long long)s.samplesPassed);
+}
+
+int renderBuiltin(const RenderOptions& o) {
+    tessera::cli::BuiltinSceneOptions opt;
+    opt.width = o.width ? o.width : opt.width;
+    opt.height = o.height ? o.height : opt.height;
+    opt.sampleCount = o.msaa;
+    tessera::Device device(o.device);
+    tessera::DrawStats drawStats;
+    tessera::BufferRegistry registry;
+    const tessera::Frame frame = tessera::cli::buildBuiltinScene(device, opt, drawStats);
+    const auto timings = frame.run(registry);
+    writeOutputs(registry, o);
+    if (o.stats) {
+        for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
+        printDrawStats(drawStats);
+    }
+    if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
+    return 0;
+}
+
+int render(const std::vector<std::string_view>& args) {
+    bool help = false;
+    const RenderOptions o = parseRenderArgs(args, help);
+    if (help) {
+        std::fputs(kRenderUsage, stdout);
+        return 0;
+    }
+    if (o.scene == "builtin") return renderBuiltin(o);
+
+    // Loading: bad input is exit 2 (InputError); everything else that fails is exit 1.
+    tessera::cli::Progress progress(o.progress);
+    const auto t0 = Clock::now();
+    const fs::path sceneFile = resolveScene(o.scene);
+    tessera::SceneDescription desc = describe(sceneFile);
+    if (!o.technique.empty()) desc.technique = o.technique;
+    if (o.width) desc.width = o.width;
+    if (o.height) desc.height = o.height;
+    if (o.precision) desc.precision = *o.precision;
+    if (o.lights)
+        for (auto& g : desc.generators) g.count = *o.lights;
+    if (!tessera::findTechnique(desc.technique) || !tessera::findTechnique(desc.technique)->build) {
+        tessera::TechniqueContext probe;  // reports unknown / unimplemented with the key path
+        (void)tessera::buildTechnique(desc.technique, probe, sceneFile.string());
+    }
+    progress.update("loading " + sceneFile.filename().string(), 0, 0);
+    tessera::Camera camera;
+    const tessera::Scene scene = tessera::loadScene(desc, true, &camera);
+    const double loadMs = msSince(t0);
+    const auto t1 = Clock::now();
+    const tessera::SceneResources resources(scene, [&](std::size_t done, std::size_t total) {
+        progress.update("textures and mips", done, total);
+    });
+    const double texturesMs = msSince(t1);
+
+    tessera::Device device(o.device);
+    tessera::DrawStats drawStats;
+    tessera::TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.camera = camera;
+    ctx.width = desc.width;
+    ctx.height = desc.height;
+    ctx.options = desc.techniqueOptions;
+    ctx.precision = desc.precision;
+    ctx.stats = &drawStats;
+    const tessera::Frame frame = tessera::buildTechnique(desc.technique, ctx, sceneFile.string());
 
     try {
-        tessera::Device device(cfg);
-        tessera::DrawStats drawStats;
         tessera::BufferRegistry registry;
-        const tessera::Frame frame = tessera::cli::buildBuiltinScene(device, opt, drawStats);
+        progress.update("rendering " + desc.technique, 0, 0);
+        const auto t2 = Clock::now();
         const auto timings = frame.run(registry);
-        tessera::writeSurface(registry.get("backbuffer"), out);
-        if (!dumpDir.empty()) {
-            std::filesystem::create_directories(dumpDir);
-            for (const std::string& name : registry.names()) {
-                const tessera::Surface& s = registry.get(name);
-                const tessera::FormatInfo& info = tessera::formatInfo(s.format());
-                const bool png = s.format() == tessera::Format::R8G8B8A8_UNORM || s.format() == tessera::Format::R8G8B8A8_UNORM_SRGB;
-                const std::string base = (std::filesystem::path(dumpDir) / name).string();
-                tessera::writeSurface(s, base + (png ? ".png" : info.kind == tessera::FormatKind::Uint ? ".tif" : ".exr"));
-                if (info.hasStencil) tessera::writeStencil(s, base + ".stencil.png");
-            }
-        }
-        if (stats) {
+        const double frameMs = msSince(t2);
+        progress.update("writing " + o.out, 0, 0);
+        writeOutputs(registry, o);
+        progress.finish();
+        if (o.stats) {
+            std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",
+                        sceneFile.string().c_str(), (unsigned long long)scene.triangleCount(), resources.drawItems().size(),
+                        scene.lights.size(), desc.technique.c_str(), std::string(tessera::precisionName(desc.precision)).c_str(),
+                        desc.width, desc.height);
+            std::printf("load     %9.3f ms (glTF, images, lights)\n", loadMs);
+            std::printf("textures %9.3f ms (%zu textures with mips, %.1f MiB)\n", texturesMs, resources.textureCount(),
+                        double(resources.textureBytes()) / (1024.0 * 1024.0));
             for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
-            std::printf("triangles in %llu, clipped %llu, culled %llu, rasterized %llu; quads %llu; ps invocations %llu; samples passed %llu\n",
-                        (unsigned long long)drawStats.setup.trianglesIn, (unsigned long long)drawStats.setup.clipped,
-                        (unsigned long long)(drawStats.setup.culledFacing + drawStats.setup.culledDegenerate + drawStats.setup.culledNonFinite),
-                        (unsigned long long)drawStats.setup.trianglesOut, (unsigned long long)drawStats.quads,
-                        (unsigned long long)drawStats.psInvocations, (unsigned long long)drawStats.samplesPassed);
+            std::printf("frame    %9.3f ms\n", frameMs);
+            printDrawStats(drawStats);
         }
-        if (!quiet) std::printf("wrote %s (%ux%u)\n", out.c_str(), opt.width, opt.height);
+        if (!o.quiet) std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;
     } catch (const std::exception& e) {
+        progress.finish();
         std::fprintf(stderr, "tessera render: %s\n", e.what());
         return 1;
     }
+}
+
+std::string firstSentence(const std::string& text) {
+    const std::size_t end = text.find(". ");
+    return end == std::string::npos ? text : text.substr(0, end + 1);
+}
+
+int list(const std::vector<std::string_view>& args) {
+    for (const std::string_view a : args) {
+        if (a == "--help" || a == "-h") {
+            std::fputs(kListUsage, stdout);
+            return 0;
+        }
+        throw UsageError("list takes no arguments, got '" + std::string(a) + "'");
+    }
+    std::puts("techniques:");
+    for (const tessera::TechniqueInfo& t : tessera::techniques())
+        std::printf("  %-18s %-12s %s [%s]\n", std::string(t.id).c_str(), t.build ? "ready" : "planned",
+                    std::string(t.summary).c_str(), std::string(t.source).c_str());
+    const fs::path dir = bundledScenesDir();
+    std::printf("bundled scenes (%s):\n", dir.string().c_str());
+    std::printf("  %-22s %s\n", "builtin", "generated cubes and a blended pane (no files; supports --msaa)");
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.path().extension() == ".json" && e.path().filename() != "scene.schema.json") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& f : files) {
+        std::string description;
+        try {
+            std::ifstream in(f);
+            const nlohmann::json j = nlohmann::json::parse(in);
+            if (j.contains("description") && j["description"].is_string()) description = firstSentence(j["description"].get<std::string>());
+        } catch (const std::exception&) {
+            description = "(not valid JSON)";
+        }
+        std::printf("  %-22s %s\n", f.stem().string().c_str(), description.c_str());
+    }
+    return 0;
+}
+
+int info(const std::vector<std::string_view>& args) {
+    std::string sceneArg;
+    for (const std::string_view a : args) {
+        if (a == "--help" || a == "-h") {
+            std::fputs(kInfoUsage, stdout);
+            return 0;
+        }
+        if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera info --help)");
+        if (!sceneArg.empty()) throw UsageError("one scene only");
+        sceneArg = std::string(a);
+    }
+    if (sceneArg.empty()) throw UsageError("info needs a SCENE");
+    const fs::path file = resolveScene(sceneArg);
+    const tessera::SceneDescription desc = describe(file);
+    tessera::Camera camera;
+    const tessera::Scene scene = tessera::loadScene(desc, false, &camera);
+    std::size_t primitives = 0, geometryBytes = 0;
+    for (const tessera::Mesh& m : scene.meshes)
+        for (const tessera::MeshPrimitive& p : m.primitives) {
+            ++primitives;
+            geometryBytes += p.positionsObject.size() * sizeof(tessera::SceneVertex) + p.indices.size() * 4;
+        }
+    // A full mip chain adds at most 1/3 of level 0 (1/4 + 1/16 + ...).
+    std::size_t textureBytes = 0;
+    for (const tessera::Image& img : scene.images) textureBytes += std::size_t(img.width) * img.height * 4 * 4 / 3;
+    std::size_t lightsByType[3] = {0, 0, 0};
+    for (const tessera::Light& l : scene.lights) ++lightsByType[int(l.type)];
+    const tessera::Bounds b = scene.bounds();
+    std::printf("scene       %s\n", file.string().c_str());
+    std::printf("technique   %s (precision %s), %ux%u\n", desc.technique.c_str(), std::string(tessera::precisionName(desc.precision)).c_str(),
+                desc.width, desc.height);
+    std::printf("triangles   %llu (in %zu instances of %zu meshes, %zu primitives)\n", (unsigned long long)scene.triangleCount(),
+                scene.instances.size(), scene.meshes.size(), primitives);
+    std::printf("materials   %zu; textures %zu; images %zu\n", scene.materials.size(), scene.textures.size(), scene.images.size());
+    std::printf("cameras     %zu in the glTF files; render camera at (%g, %g, %g), fovY %g deg, near %g, far %g\n",
+                scene.cameras.size(), camera.positionWorld.x, camera.positionWorld.y, camera.positionWorld.z, camera.fovYDeg,
+                camera.nearZ, camera.farZ);
+    std::printf("lights      %zu (point %zu, spot %zu, directional %zu)\n", scene.lights.size(), lightsByType[0], lightsByType[1],
+                lightsByType[2]);
+    if (b.empty()) std::printf("bounds      empty\n");
+    else
+        std::printf("bounds      (%g, %g, %g) .. (%g, %g, %g)\n", b.minWorld.x, b.minWorld.y, b.minWorld.z, b.maxWorld.x,
+                    b.maxWorld.y, b.maxWorld.z);
+    // Render targets: the preview technique's 4 B colour + 4 B depth per pixel; others list theirs.
+    const double targetsBytes = double(desc.width) * desc.height * 8.0;
+    std::printf("memory      about %.1f MiB: geometry %.1f MiB, textures with mips %.1f MiB, targets %.1f MiB\n",
+                double(geometryBytes + textureBytes + std::size_t(targetsBytes)) / 1048576.0, double(geometryBytes) / 1048576.0,
+                double(textureBytes) / 1048576.0, targetsBytes / 1048576.0);
+    return 0;
 }
 
 } // namespace
@@ -133,15 +415,19 @@ int main(int argc, char** argv) {
             std::fputs(kUsage, args.empty() ? stderr : stdout);
             return args.empty() ? 2 : 0;
         }
-        if (args[0] == "render") return render({args.begin() + 1, args.end()});
-        if (args[0] == "list") {
-            std::puts("techniques:\n  builtin   the built-in forward scene (lit opaque pass + alpha-blended pass)\n"
-                      "bundled scenes:\n  (none yet: the glTF scene loader is a later issue)");
-            return 0;
-        }
+        const std::vector<std::string_view> rest(args.begin() + 1, args.end());
+        if (args[0] == "render") return render(rest);
+        if (args[0] == "list") return list(rest);
+        if (args[0] == "info") return info(rest);
         throw UsageError("unknown command '" + std::string(args[0]) + "'");
     } catch (const UsageError& e) {
         std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);
         return 2;
+    } catch (const tessera::InputError& e) {
+        std::fprintf(stderr, "tessera: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "tessera: %s\n", e.what());
+        return 1;
     }
 }

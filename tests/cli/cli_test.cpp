@@ -39,7 +39,7 @@ TEST_CASE("cli: render writes the image and exits 0; --dump writes every named b
     const auto dump = scratch("dump");
     std::filesystem::remove(out);
     std::filesystem::remove_all(dump);
-    const Run r = run("render --out " + out.string() + " --width 64 --height 48 --msaa 4 --quiet --dump " + dump.string());
+    const Run r = run("render builtin --out " + out.string() + " --width 64 --height 48 --msaa 4 --quiet --dump " + dump.string());
     INFO(r.output);
     CHECK(r.exitCode == 0);
     CHECK(r.output.empty());
@@ -59,7 +59,15 @@ TEST_CASE("cli: bad usage exits 2 and names the flag and value") {
         {"render --threads -1", "--threads: '-1'"},
         {"render --frobnicate", "unknown option '--frobnicate'"},
         {"render --out", "--out needs a value"},
-        {"render --out noextension", "has no extension"},
+        {"render --out noextension", "must end in .png or .exr"},
+        {"render --out x.jpg", "must end in .png or .exr"},
+        {"render --exr quarter", "--exr: 'quarter'"},
+        {"render --precision sloppy", "--precision: 'sloppy'"},
+        {"render --lights 1000001", "--lights: '1000001'"},
+        {"render --msaa 4", "only the builtin scene"},
+        {"render a.json b.json", "one scene only"},
+        {"list extra", "list takes no arguments"},
+        {"info", "info needs a SCENE"},
         {"explode", "unknown command 'explode'"},
         {"", "usage: tessera"},
     };
@@ -75,22 +83,102 @@ TEST_CASE("cli: a failed write exits 1, names the file and leaves nothing behind
     const auto dir = scratch("no-such-dir") / "deeper";
     std::filesystem::remove_all(dir.parent_path());
     const auto out = dir / "x.png";
-    const Run r = run("render --out " + out.string() + " --width 16 --height 16");
+    const Run r = run("render builtin --out " + out.string() + " --width 16 --height 16");
     INFO(r.output);
     CHECK(r.exitCode == 1);
     CHECK(r.output.find(out.string()) != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir));
-    const Run bad = run("render --out " + scratch("image.unknownext").string() + " --width 16 --height 16");
-    CHECK(bad.exitCode == 1);
-    CHECK_FALSE(std::filesystem::exists(scratch("image.unknownext")));
-    CHECK_FALSE(std::filesystem::exists(scratch("image.partial.unknownext")));
 }
 
 TEST_CASE("cli: --help for every subcommand exits 0") {
-    for (const char* args : {"--help", "help", "render --help", "list"}) {
+    for (const char* args : {"--help", "help", "render --help", "list --help", "info --help", "list"}) {
         const Run r = run(args);
         INFO(args);
         CHECK(r.exitCode == 0);
         CHECK(!r.output.empty());
     }
+}
+
+TEST_CASE("cli: list names every technique with its state and the bundled scenes") {
+    const Run r = run("list");
+    CHECK(r.exitCode == 0);
+    for (const char* id : {"preview ", "forward ", "deferred ", "forward-plus ", "ready", "planned", "default ", "sponza-large-lights",
+                           "sponza-small-lights", "builtin"})
+        CHECK_MESSAGE(r.output.find(id) != std::string::npos, id);
+}
+
+TEST_CASE("cli: bad scene input exits 2, names the file and key, and writes nothing") {
+    const auto dir = scratch("bad-scenes");
+    std::filesystem::create_directories(dir);
+    struct Case { const char* name; const char* json; const char* mentions; };
+    // Every file names a valid model, so each error below is the one the case is about.
+    const std::string box = std::string(TESSERA_SOURCE_DIR) + "/scenes/khronos/Box/glTF/Box.gltf";
+    const std::string model = R"({"models": [{"path": ")" + box + R"("}], "technique": "preview", )";
+    const Case cases[] = {
+        {"wrongtype.json", R"("resolution": ["640", 360]})", "/resolution/0"},
+        {"zero.json", R"("resolution": [0, 360]})", "/resolution/0"},
+        {"huge.json", R"("resolution": [1000000000, 360]})", "/resolution/0"},
+        {"range.json", R"("lights": [{"type": "point", "position": [0,0,0], "range": -1}]})", "/lights/0/range"},
+        {"nan.json", R"("lights": [{"type": "point", "position": [0,1e39,0], "range": 1}]})", "/lights/0/position/1"},
+        {"overflow.json", R"("lights": [{"type": "point", "position": [0,1e999,0], "range": 1}]})", "number overflow"},
+        {"count.json", R"("generate": [{"count": 2000000, "seed": 1}]})", "/generate/0/count"},
+        {"unknownkey.json", R"("resolutoin": [8, 8]})", "/resolutoin"},
+        {"syntax.json", R"("resolution": [)", "invalid JSON"},
+    };
+    for (const Case& c : cases) {
+        const auto file = dir / c.name;
+        {
+            FILE* f = std::fopen(file.string().c_str(), "w");
+            REQUIRE(f != nullptr);
+            std::fputs((model + c.json).c_str(), f);
+            std::fclose(f);
+        }
+        const auto out = dir / (std::string(c.name) + ".png");
+        std::filesystem::remove(out);
+        const Run r = run("render " + file.string() + " --out " + out.string());
+        INFO(c.name << " -> " << r.output);
+        CHECK(r.exitCode == 2);
+        CHECK(r.output.find(c.name) != std::string::npos);
+        CHECK(r.output.find(c.mentions) != std::string::npos);
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+    {
+        std::FILE* f = std::fopen((dir / "missing-model.json").string().c_str(), "w");
+        REQUIRE(f != nullptr);
+        std::fputs(R"({"models": [{"path": "nope.gltf"}], "technique": "preview"})", f);
+        std::fclose(f);
+        const Run r = run("render " + (dir / "missing-model.json").string() + " --out " + (dir / "x.png").string());
+        CHECK(r.exitCode == 2);
+        CHECK(r.output.find("/models/0/path") != std::string::npos);
+        const Run t = run("render " + (dir / "missing-model.json").string() + " --technique raytrace --out " + (dir / "x.png").string());
+        CHECK(t.exitCode == 2);
+        CHECK(t.output.find("unknown technique 'raytrace'") != std::string::npos);
+    }
+    const Run missing = run("render no-such-scene --out " + (dir / "x.png").string());
+    CHECK(missing.exitCode == 2);
+    CHECK(missing.output.find("no-such-scene: no such file") != std::string::npos);
+    const Run planned = run("render default --technique deferred --out " + (dir / "x.png").string());
+    CHECK(planned.exitCode == 2);
+    CHECK(planned.output.find("not implemented yet") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
+TEST_CASE("cli: the default scene renders with no arguments beyond render, and info describes it") {
+    const auto out = scratch("default.png");
+    std::filesystem::remove(out);
+    const Run r = run("render --out " + out.string() + " --width 160 --height 90 --stats");
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(std::filesystem::file_size(out) > 1000);
+    for (const char* line : {"load ", "textures ", "pass opaque", "pass transparent", "frame ", "triangles in"})
+        CHECK_MESSAGE(r.output.find(line) != std::string::npos, line);
+    const auto exr = scratch("default.exr");
+    CHECK(run("render default --out " + exr.string() + " --exr half --width 32 --height 18 --quiet").exitCode == 0);
+    CHECK(std::filesystem::exists(exr));
+
+    const Run i = run("info default");
+    INFO(i.output);
+    CHECK(i.exitCode == 0);
+    for (const char* line : {"triangles ", "materials ", "lights ", "bounds ", "memory "})
+        CHECK_MESSAGE(i.output.find(line) != std::string::npos, line);
 }

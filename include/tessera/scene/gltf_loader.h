@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -15,10 +17,16 @@ struct GltfLoadOptions {
     bool loadImages = true;          // false: keep texture/image records, leave pixels empty (`tessera info`)
     glm::mat4 worldFromFile{1.0f};   // applied above the glTF's root nodes (the scene file's transform)
     int sceneIndex = -1;             // glTF scene to instantiate; -1: the file's default scene (or 0)
+    // Receives one line per warning (unsupported optional extensions, skipped point/line
+    // primitives, ignored skins, ...), each prefixed by the file name; null: printed to stderr.
+    std::vector<std::string>* warnings = nullptr;
 };
 
 // Appends the file's contents to `scene` (indices into scene's vectors are offset accordingly).
-// Throws InputError naming the file and the JSON path ("/accessors/3/count", ...) on bad input.
+// Throws InputError naming the file and the JSON path ("/accessors/3/count", ...) on bad input;
+// `scene` is left unchanged then. Tangents: a primitive without TANGENT gets generated ones
+// (tangentsGenerated) whenever it has the UV set they follow (the material's normalTexture
+// texCoord, else TEXCOORD_0); without that UV set tangentsObject stays empty.
 void loadGltf(const std::filesystem::path& file, Scene& scene, const GltfLoadOptions& options = {});
 
 } // namespace tessera

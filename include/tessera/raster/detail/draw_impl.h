@@ -419,8 +419,8 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                     const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
                                     for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
                                 }
-                                DepthStencilResult result[8];
-                                std::uint32_t depthCode[8];
+                                DepthStencilResult result[8]{};  // zeroed: GCC -O2 cannot see that only masked samples are read
+                                std::uint32_t depthCode[8]{};
                                 std::uint32_t passMask = 0, passCount = 0;
                                 for (std::uint32_t s = 0; s < sampleCount; ++s) {
                                     if (!(mask & (1u << s))) continue;

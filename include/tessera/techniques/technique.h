@@ -1,0 +1,51 @@
+// The technique registry: every rendering technique tessera knows, by id, with where it comes
+// from and whether it is implemented yet. A technique turns a scene into a Frame: an ordered
+// list of named passes that declare the buffers they read and write.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include <tessera/frame/frame.h>
+#include <tessera/raster/device.h>
+#include <tessera/scene/precision.h>
+#include <tessera/techniques/scene_resources.h>
+
+namespace tessera {
+
+struct TechniqueContext {
+    Device* device = nullptr;
+    const SceneResources* resources = nullptr;
+    Camera camera;
+    std::uint32_t width = 0, height = 0;       // render target size, px
+    nlohmann::json options = nlohmann::json::object();  // the scene file's "options"
+    Precision precision = Precision::Exact;
+    DrawStats* stats = nullptr;                // accumulated over every draw of the frame
+};
+
+struct TechniqueInfo {
+    std::string_view id;
+    std::string_view summary;
+    std::string_view source;       // seed / article the technique follows
+    // Null while the technique is planned but not implemented.
+    Frame (*build)(const TechniqueContext&) = nullptr;
+    // The option keys the technique accepts in "options" (others are rejected).
+    std::span<const std::string_view> optionKeys;
+};
+
+std::span<const TechniqueInfo> techniques();
+// Null when no technique has this id.
+const TechniqueInfo* findTechnique(std::string_view id);
+
+// Builds the frame; throws InputError for an unknown or unimplemented technique id or an
+// unknown option key (naming "/technique" or "/options/KEY").
+Frame buildTechnique(std::string_view id, const TechniqueContext& context, const std::string& sceneFile);
+
+// The final image of every technique is the buffer named "backbuffer".
+inline constexpr std::string_view kBackBufferName = "backbuffer";
+
+} // namespace tessera

@@ -1,0 +1,594 @@
+// The scene file: strict JSON validation into a SceneDescription (every error an InputError
+// naming the file and the JSON-pointer key path), camera resolution, and loadScene, which loads
+// the glTF models and builds the light list (explicit, glTF, generated, in that order).
+#include <tessera/scene/scene_file.h>
+
+#include <tessera/io/input_error.h>
+#include <tessera/scene/gltf_loader.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+
+namespace tessera {
+
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr std::uint32_t kMaxResolution = 16384;         // texels per side
+constexpr std::uint32_t kMaxGeneratedLights = 1000000;  // per generator
+constexpr float kDefaultExplicitRange = 100.0f;         // world units; 3dgep Light.h's default Range
+
+const std::vector<std::string> kTopLevelKeys = {
+    "$schema", "description", "models", "camera", "resolution", "technique",
+    "options", "precision", "lights", "gltfLights", "generate"};
+
+// Levenshtein distance, for "did you mean" suggestions.
+std::size_t editDistance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            const std::size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// RFC 6901 escaping of one reference token.
+std::string pointerToken(std::string_view key) {
+    std::string out;
+    for (char c : key) {
+        if (c == '~') out += "~0";
+        else if (c == '/') out += "~1";
+        else out += c;
+    }
+    return out;
+}
+
+std::string typeName(const Json& value) {
+    switch (value.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::boolean: return "boolean";
+    case Json::value_t::string: return "string";
+    case Json::value_t::array: return "array";
+    case Json::value_t::object: return "object";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned: return "integer";
+    case Json::value_t::number_float: return "number";
+    default: return "value";
+    }
+}
+
+// "[json.exception.parse_error.101] parse error at line 1, ..." -> "parse error at line 1, ...".
+std::string withoutExceptionPrefix(std::string what) {
+    const std::size_t bracket = what.find("] ");
+    if (what.rfind("[json.exception.", 0) == 0 && bracket != std::string::npos) what = what.substr(bracket + 2);
+    return what;
+}
+
+std::string formatNumber(double v) {
+    std::ostringstream out;
+    out.precision(9);
+    out << v;
+    return out.str();
+}
+
+// Validating reader: every check throws inputError(file, path, what).
+class Reader {
+public:
+    explicit Reader(std::string file) : mFile(std::move(file)) {}
+
+    [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+        throw inputError(mFile, path, what);
+    }
+
+    static std::string at(const std::string& path, std::string_view key) { return path + "/" + pointerToken(key); }
+    static std::string at(const std::string& path, std::size_t index) { return path + "/" + std::to_string(index); }
+
+    void requireObject(const Json& value, const std::string& path) const {
+        if (!value.is_object()) fail(path, "expected an object, got " + typeName(value));
+    }
+    void requireArray(const Json& value, const std::string& path) const {
+        if (!value.is_array()) fail(path, "expected an array, got " + typeName(value));
+    }
+    void requireSize(const Json& value, const std::string& path, std::size_t size) const {
+        requireArray(value, path);
+        if (value.size() != size)
+            fail(path, "expected an array of " + std::to_string(size) + " elements, got " + std::to_string(value.size()));
+    }
+
+    // Unknown keys are errors; the nearest known key is suggested when it is close.
+    void checkKeys(const Json& object, const std::string& path, const std::vector<std::string_view>& allowed) const {
+        for (const auto& item : object.items()) {
+            const std::string& key = item.key();
+            if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+            std::string_view best;
+            std::size_t bestDistance = std::numeric_limits<std::size_t>::max();
+            for (std::string_view candidate : allowed) {
+                const std::size_t d = editDistance(key, candidate);
+                if (d < bestDistance) { bestDistance = d; best = candidate; }
+            }
+            std::string what = "unknown key \"" + key + "\"";
+            if (!best.empty() && bestDistance <= std::max<std::size_t>(2, key.size() / 3))
+                what += " (did you mean \"" + std::string(best) + "\"?)";
+            else {
+                what += " (known keys:";
+                for (std::string_view candidate : allowed) what += " " + std::string(candidate);
+                what += ")";
+            }
+            fail(at(path, key), what);
+        }
+    }
+    void requireKey(const Json& object, const std::string& path, std::string_view key) const {
+        if (!object.contains(key)) fail(path, "missing required key \"" + std::string(key) + "\"");
+    }
+
+    // A finite number that is also finite in binary32 (1e999 parses to inf, 1e39 overflows float).
+    float number(const Json& value, const std::string& path) const {
+        if (!value.is_number()) fail(path, "expected a number, got " + typeName(value));
+        const double v = value.get<double>();
+        if (!std::isfinite(v)) fail(path, "the number is not finite");
+        // Checked before the conversion: a double beyond the float range converts with undefined behaviour.
+        if (std::abs(v) > double(std::numeric_limits<float>::max())) fail(path, formatNumber(v) + " is outside the binary32 range");
+        return static_cast<float>(v);
+    }
+    float numberIn(const Json& value, const std::string& path, float lo, float hi, bool loOpen, bool hiOpen) const {
+        const float f = number(value, path);
+        const bool belowLo = loOpen ? !(f > lo) : !(f >= lo);
+        const bool aboveHi = hiOpen ? !(f < hi) : !(f <= hi);
+        if (belowLo || aboveHi)
+            fail(path, formatNumber(f) + " is outside " + (loOpen ? "(" : "[") + formatNumber(lo) + ", " +
+                           formatNumber(hi) + (hiOpen ? ")" : "]"));
+        return f;
+    }
+    float positive(const Json& value, const std::string& path) const {
+        const float f = number(value, path);
+        if (f < 0.0f) fail(path, formatNumber(f) + " is negative");
+        if (!(f > 0.0f)) fail(path, "0 is not allowed (must be > 0)");
+        return f;
+    }
+    float nonNegative(const Json& value, const std::string& path) const {
+        const float f = number(value, path);
+        if (f < 0.0f) fail(path, formatNumber(f) + " is negative");
+        return f;
+    }
+    std::uint64_t unsignedInteger(const Json& value, const std::string& path, std::uint64_t lo, std::uint64_t hi) const {
+        if (!value.is_number_integer()) fail(path, "expected an integer, got " + typeName(value));
+        if (value.is_number_unsigned()) {
+            const auto v = value.get<std::uint64_t>();
+            if (v < lo || v > hi)
+                fail(path, std::to_string(v) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+            return v;
+        }
+        const auto v = value.get<std::int64_t>();
+        if (v < 0 || static_cast<std::uint64_t>(v) < lo || static_cast<std::uint64_t>(v) > hi)
+            fail(path, std::to_string(v) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+        return static_cast<std::uint64_t>(v);
+    }
+    bool boolean(const Json& value, const std::string& path) const {
+        if (!value.is_boolean()) fail(path, "expected a boolean, got " + typeName(value));
+        return value.get<bool>();
+    }
+    std::string string(const Json& value, const std::string& path) const {
+        if (!value.is_string()) fail(path, "expected a string, got " + typeName(value));
+        return value.get<std::string>();
+    }
+    std::string nonEmptyString(const Json& value, const std::string& path) const {
+        std::string s = string(value, path);
+        if (s.empty()) fail(path, "the string is empty");
+        return s;
+    }
+    glm::vec3 vec3(const Json& value, const std::string& path) const {
+        requireSize(value, path, 3);
+        return {number(value[0], at(path, 0)), number(value[1], at(path, 1)), number(value[2], at(path, 2))};
+    }
+    glm::vec3 colour(const Json& value, const std::string& path) const {
+        requireSize(value, path, 3);
+        return {nonNegative(value[0], at(path, 0)), nonNegative(value[1], at(path, 1)), nonNegative(value[2], at(path, 2))};
+    }
+    // A nonzero vector, normalized in binary32 (v / sqrt(dot(v, v))).
+    glm::vec3 direction(const Json& value, const std::string& path) const {
+        const glm::vec3 v = vec3(value, path);
+        const float lengthSquared = (v.x * v.x + v.y * v.y) + v.z * v.z;
+        if (!(lengthSquared > 0.0f) || !std::isfinite(lengthSquared)) fail(path, "the direction is zero or too large");
+        const float length = std::sqrt(lengthSquared);
+        return {v.x / length, v.y / length, v.z / length};
+    }
+    // [x, y, z, w], nonzero, normalized.
+    glm::quat quaternion(const Json& value, const std::string& path) const {
+        requireSize(value, path, 4);
+        const glm::quat q(number(value[3], at(path, 3)), number(value[0], at(path, 0)), number(value[1], at(path, 1)),
+                          number(value[2], at(path, 2)));
+        const float lengthSquared = ((q.x * q.x + q.y * q.y) + q.z * q.z) + q.w * q.w;
+        if (!(lengthSquared > 0.0f) || !std::isfinite(lengthSquared)) fail(path, "the quaternion is zero or too large");
+        const float length = std::sqrt(lengthSquared);
+        return glm::quat(q.w / length, q.x / length, q.y / length, q.z / length);
+    }
+    // [a, b] with a <= b, each checked by `element`.
+    template <class Element>
+    glm::vec2 interval(const Json& value, const std::string& path, Element element) const {
+        requireSize(value, path, 2);
+        const glm::vec2 v{element(value[0], at(path, 0)), element(value[1], at(path, 1))};
+        if (v.x > v.y) fail(path, "min " + formatNumber(v.x) + " is greater than max " + formatNumber(v.y));
+        return v;
+    }
+
+    const std::string& file() const { return mFile; }
+
+private:
+    std::string mFile;
+};
+
+std::vector<ModelRef> parseModels(const Reader& r, const Json& value, const std::filesystem::path& sceneFile) {
+    const std::string path = "/models";
+    r.requireArray(value, path);
+    if (value.empty()) r.fail(path, "expected at least one model");
+    std::vector<ModelRef> models;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+        const Json& m = value[i];
+        const std::string at = Reader::at(path, i);
+        r.requireObject(m, at);
+        r.checkKeys(m, at, {"path", "translation", "rotation", "scale"});
+        r.requireKey(m, at, "path");
+        ModelRef model;
+        std::filesystem::path file = r.nonEmptyString(m["path"], Reader::at(at, "path"));
+        model.path = file.is_relative() ? (sceneFile.parent_path() / file).lexically_normal() : file;
+        glm::vec3 translation{0.0f}, scale{1.0f};
+        glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+        if (m.contains("translation")) translation = r.vec3(m["translation"], Reader::at(at, "translation"));
+        if (m.contains("rotation")) rotation = r.quaternion(m["rotation"], Reader::at(at, "rotation"));
+        if (m.contains("scale")) {
+            const Json& s = m["scale"];
+            const std::string sp = Reader::at(at, "scale");
+            if (s.is_number()) {
+                scale = glm::vec3(r.positive(s, sp));
+            } else if (s.is_array()) {
+                r.requireSize(s, sp, 3);
+                scale = {r.positive(s[0], Reader::at(sp, 0)), r.positive(s[1], Reader::at(sp, 1)),
+                         r.positive(s[2], Reader::at(sp, 2))};
+            } else {
+                r.fail(sp, "expected a number or an array of 3 numbers, got " + typeName(s));
+            }
+        }
+        // glTF's node order: T * R * S.
+        model.worldFromFile = glm::translate(glm::mat4(1.0f), translation) * glm::mat4_cast(rotation) *
+                              glm::scale(glm::mat4(1.0f), scale);
+        models.push_back(std::move(model));
+    }
+    return models;
+}
+
+void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
+    const std::string path = "/camera";
+    r.requireObject(value, path);
+    r.checkKeys(value, path, {"position", "rotation", "target", "up", "gltf", "fovYDeg", "near", "far"});
+    if (value.contains("fovYDeg")) d.cameraFovYDeg = r.numberIn(value["fovYDeg"], "/camera/fovYDeg", 0.0f, 180.0f, true, true);
+    if (value.contains("near")) d.cameraNearZ = r.positive(value["near"], "/camera/near");
+    if (value.contains("far")) d.cameraFarZ = r.positive(value["far"], "/camera/far");
+    if (d.cameraNearZ && d.cameraFarZ && !(*d.cameraFarZ > *d.cameraNearZ))
+        r.fail("/camera/far", formatNumber(*d.cameraFarZ) + " is not greater than near " + formatNumber(*d.cameraNearZ));
+
+    const bool hasPosition = value.contains("position"), hasRotation = value.contains("rotation");
+    const bool hasTarget = value.contains("target"), hasUp = value.contains("up");
+    if (value.contains("gltf")) {
+        for (std::string_view key : {"position", "rotation", "target", "up"})
+            if (value.contains(key)) r.fail(Reader::at(path, key), "not allowed together with \"gltf\"");
+        d.gltfCameraIndex = static_cast<int>(r.unsignedInteger(value["gltf"], "/camera/gltf", 0, 1u << 20));
+        d.cameraFromGltf = true;
+        d.cameraSource = CameraSource::Gltf;
+        return;
+    }
+    if (!hasPosition) {
+        for (std::string_view key : {"rotation", "target", "up"})
+            if (value.contains(key)) r.fail(Reader::at(path, key), "needs \"position\"");
+        d.cameraSource = CameraSource::Framing;
+        return;
+    }
+    Camera camera;
+    camera.positionWorld = r.vec3(value["position"], "/camera/position");
+    if (hasRotation && (hasTarget || hasUp))
+        r.fail(hasTarget ? "/camera/target" : "/camera/up", "give either \"rotation\" or \"target\" (+ \"up\"), not both");
+    if (hasRotation) {
+        camera.orientationWorld = r.quaternion(value["rotation"], "/camera/rotation");
+    } else if (hasTarget) {
+        const glm::vec3 target = r.vec3(value["target"], "/camera/target");
+        const glm::vec3 up = hasUp ? r.direction(value["up"], "/camera/up") : glm::vec3(0.0f, 1.0f, 0.0f);
+        const glm::vec3 forward = target - camera.positionWorld;
+        const float forwardLengthSquared = glm::dot(forward, forward);
+        if (!(forwardLengthSquared > 0.0f)) r.fail("/camera/target", "the target equals the position");
+        const glm::vec3 forwardUnit = forward / std::sqrt(forwardLengthSquared);
+        const glm::vec3 side = glm::cross(forwardUnit, up);
+        if (!(glm::dot(side, side) > 1e-12f)) r.fail(hasUp ? "/camera/up" : "/camera/target", "\"up\" is parallel to the view direction");
+        // Right-handed look-at: the camera's -Z looks along forwardUnit, +Y towards up.
+        camera.orientationWorld = glm::quatLookAtRH(forwardUnit, up);
+    } else {
+        r.fail(path, "\"position\" needs \"rotation\" or \"target\"");
+    }
+    if (d.cameraFovYDeg) camera.fovYDeg = *d.cameraFovYDeg;
+    if (d.cameraNearZ) camera.nearZ = *d.cameraNearZ;
+    if (d.cameraFarZ) camera.farZ = *d.cameraFarZ;
+    if (!(camera.farZ > camera.nearZ))
+        r.fail(d.cameraFarZ ? "/camera/far" : "/camera/near", "far " + formatNumber(camera.farZ) +
+                                                                  " is not greater than near " + formatNumber(camera.nearZ));
+    d.camera = camera;
+    d.cameraSource = CameraSource::Explicit;
+}
+
+Light parseLight(const Reader& r, const Json& value, const std::string& path) {
+    r.requireObject(value, path);
+    r.checkKeys(value, path, {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "enabled"});
+    r.requireKey(value, path, "type");
+    const std::string type = r.string(value["type"], Reader::at(path, "type"));
+    Light light;
+    if (type == "point") light.type = LightType::Point;
+    else if (type == "spot") light.type = LightType::Spot;
+    else if (type == "directional") light.type = LightType::Directional;
+    else r.fail(Reader::at(path, "type"), "unknown light type \"" + type + "\" (point, spot, directional)");
+
+    const bool positional = light.type != LightType::Directional;
+    const bool directed = light.type != LightType::Point;
+    auto notFor = [&](std::string_view key) {
+        if (value.contains(key)) r.fail(Reader::at(path, key), "not used by a " + type + " light");
+    };
+    if (positional) {
+        r.requireKey(value, path, "position");
+        light.positionWorld = r.vec3(value["position"], Reader::at(path, "position"));
+        light.range = value.contains("range") ? r.positive(value["range"], Reader::at(path, "range")) : kDefaultExplicitRange;
+    } else {
+        notFor("position");
+        notFor("range");
+    }
+    if (directed) {
+        r.requireKey(value, path, "direction");
+        light.directionWorld = r.direction(value["direction"], Reader::at(path, "direction"));
+    } else {
+        notFor("direction");
+    }
+    if (light.type == LightType::Spot) {
+        if (value.contains("spotAngleDeg"))
+            light.spotHalfAngleDeg = r.numberIn(value["spotAngleDeg"], Reader::at(path, "spotAngleDeg"), 0.0f, 90.0f, true, true);
+    } else {
+        notFor("spotAngleDeg");
+    }
+    if (value.contains("color")) light.color = r.colour(value["color"], Reader::at(path, "color"));
+    if (value.contains("intensity")) light.intensity = r.nonNegative(value["intensity"], Reader::at(path, "intensity"));
+    if (value.contains("enabled")) light.enabled = r.boolean(value["enabled"], Reader::at(path, "enabled"));
+    if (value.contains("name")) light.name = r.string(value["name"], Reader::at(path, "name"));
+    return light;
+}
+
+LightGeneratorSpec parseGenerator(const Reader& r, const Json& value, const std::string& path) {
+    r.requireObject(value, path);
+    r.checkKeys(value, path, {"count", "seed", "pointFraction", "box", "range", "spotAngleDeg", "intensity", "colorMin", "colorMax"});
+    r.requireKey(value, path, "count");
+    LightGeneratorSpec spec;
+    spec.count = static_cast<std::uint32_t>(r.unsignedInteger(value["count"], Reader::at(path, "count"), 0, kMaxGeneratedLights));
+    if (value.contains("seed"))
+        spec.seed = r.unsignedInteger(value["seed"], Reader::at(path, "seed"), 0, std::numeric_limits<std::uint64_t>::max());
+    if (value.contains("pointFraction"))
+        spec.pointFraction = r.numberIn(value["pointFraction"], Reader::at(path, "pointFraction"), 0.0f, 1.0f, false, false);
+    if (value.contains("box")) {
+        const Json& box = value["box"];
+        const std::string bp = Reader::at(path, "box");
+        r.requireObject(box, bp);
+        r.checkKeys(box, bp, {"min", "max"});
+        r.requireKey(box, bp, "min");
+        r.requireKey(box, bp, "max");
+        Bounds bounds;
+        bounds.minWorld = r.vec3(box["min"], Reader::at(bp, "min"));
+        bounds.maxWorld = r.vec3(box["max"], Reader::at(bp, "max"));
+        for (glm::length_t axis = 0; axis < 3; ++axis)
+            if (bounds.minWorld[axis] > bounds.maxWorld[axis])
+                r.fail(Reader::at(Reader::at(bp, "min"), static_cast<std::size_t>(axis)),
+                       "min " + formatNumber(bounds.minWorld[axis]) + " is greater than max " + formatNumber(bounds.maxWorld[axis]));
+        spec.box = bounds;
+    }
+    if (value.contains("range"))
+        spec.range = r.interval(value["range"], Reader::at(path, "range"),
+                                [&](const Json& v, const std::string& p) { return r.positive(v, p); });
+    if (value.contains("spotAngleDeg"))
+        spec.spotHalfAngleDeg = r.interval(value["spotAngleDeg"], Reader::at(path, "spotAngleDeg"), [&](const Json& v, const std::string& p) {
+            return r.numberIn(v, p, 0.0f, 90.0f, true, true);
+        });
+    if (value.contains("intensity"))
+        spec.intensity = r.interval(value["intensity"], Reader::at(path, "intensity"),
+                                    [&](const Json& v, const std::string& p) { return r.nonNegative(v, p); });
+    if (value.contains("colorMin")) spec.colorMin = r.colour(value["colorMin"], Reader::at(path, "colorMin"));
+    if (value.contains("colorMax")) spec.colorMax = r.colour(value["colorMax"], Reader::at(path, "colorMax"));
+    for (glm::length_t c = 0; c < 3; ++c)
+        if (spec.colorMin[c] > spec.colorMax[c])
+            r.fail(Reader::at(Reader::at(path, "colorMin"), static_cast<std::size_t>(c)),
+                   "min " + formatNumber(spec.colorMin[c]) + " is greater than colorMax's " + formatNumber(spec.colorMax[c]));
+    return spec;
+}
+
+} // namespace
+
+const std::vector<std::string>& sceneFileTopLevelKeys() { return kTopLevelKeys; }
+
+SceneDescription parseSceneJson(const std::string& text, const std::filesystem::path& file) {
+    const Reader r(file.string());
+    Json root;
+    try {
+        root = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        r.fail("", "invalid JSON (byte " + std::to_string(e.byte) + "): " + withoutExceptionPrefix(e.what()));
+    } catch (const Json::exception& e) {
+        // out_of_range 406, "number overflow parsing '1e999'": nlohmann names the token, not
+        // its position, so the first occurrence of the token gives the line and column.
+        const std::string what = withoutExceptionPrefix(e.what());
+        std::string where;
+        const std::size_t open = what.find('\''), close = what.rfind('\'');
+        if (open != std::string::npos && close > open + 1) {
+            const std::size_t at = text.find(what.substr(open + 1, close - open - 1));
+            if (at != std::string::npos) {
+                const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+                const std::size_t lineStart = text.rfind('\n', at == 0 ? 0 : at - 1);
+                const std::size_t column = lineStart == std::string::npos || at == 0 ? at + 1 : at - lineStart;
+                where = " at line " + std::to_string(line) + ", column " + std::to_string(column);
+            }
+        }
+        r.fail("", "invalid JSON" + where + ": " + what + " (numbers must be finite)");
+    }
+    r.requireObject(root, "");
+    r.checkKeys(root, "", std::vector<std::string_view>(kTopLevelKeys.begin(), kTopLevelKeys.end()));
+    SceneDescription d;
+    d.file = file;
+    if (root.contains("$schema")) r.string(root["$schema"], "/$schema");
+    if (root.contains("description")) r.string(root["description"], "/description");
+    r.requireKey(root, "", "models");
+    d.models = parseModels(r, root["models"], file);
+    if (root.contains("camera")) parseCamera(r, root["camera"], d);
+    if (root.contains("resolution")) {
+        const Json& res = root["resolution"];
+        r.requireSize(res, "/resolution", 2);
+        d.width = static_cast<std::uint32_t>(r.unsignedInteger(res[0], "/resolution/0", 1, kMaxResolution));
+        d.height = static_cast<std::uint32_t>(r.unsignedInteger(res[1], "/resolution/1", 1, kMaxResolution));
+    }
+    if (root.contains("technique")) d.technique = r.nonEmptyString(root["technique"], "/technique");
+    if (root.contains("options")) {
+        r.requireObject(root["options"], "/options");
+        d.techniqueOptions = root["options"];
+    }
+    if (root.contains("precision")) {
+        const std::string name = r.string(root["precision"], "/precision");
+        const auto precision = parsePrecision(name);
+        if (!precision) r.fail("/precision", "unknown precision \"" + name + "\" (reference, exact, fast)");
+        d.precision = *precision;
+    }
+    if (root.contains("lights")) {
+        const Json& lights = root["lights"];
+        r.requireArray(lights, "/lights");
+        for (std::size_t i = 0; i < lights.size(); ++i) d.explicitLights.push_back(parseLight(r, lights[i], Reader::at("/lights", i)));
+    }
+    if (root.contains("gltfLights")) {
+        const Json& g = root["gltfLights"];
+        r.requireObject(g, "/gltfLights");
+        r.checkKeys(g, "/gltfLights", {"enabled", "defaultRange"});
+        d.useGltfLights = g.contains("enabled") ? r.boolean(g["enabled"], "/gltfLights/enabled") : true;
+        if (g.contains("defaultRange")) d.gltfLightDefaultRange = r.nonNegative(g["defaultRange"], "/gltfLights/defaultRange");
+    }
+    if (root.contains("generate")) {
+        const Json& generators = root["generate"];
+        r.requireArray(generators, "/generate");
+        for (std::size_t i = 0; i < generators.size(); ++i)
+            d.generators.push_back(parseGenerator(r, generators[i], Reader::at("/generate", i)));
+    }
+    return d;
+}
+
+SceneDescription parseSceneFile(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) {
+        std::error_code ec;
+        const bool exists = std::filesystem::exists(file, ec);
+        throw inputError(file.string(), "", exists ? "cannot be read" : "no such file");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw inputError(file.string(), "", "read error");
+    return parseSceneJson(text.str(), file);
+}
+
+Camera resolveCamera(const SceneDescription& d, const Scene& scene) {
+    Camera camera;
+    CameraSource source = d.cameraSource;
+    if (source == CameraSource::Explicit) return d.camera;
+    if (source == CameraSource::Auto) source = scene.cameras.empty() ? CameraSource::Framing : CameraSource::Gltf;
+    if (source == CameraSource::Gltf) {
+        const int index = d.cameraSource == CameraSource::Gltf ? d.gltfCameraIndex : 0;
+        if (index < 0 || static_cast<std::size_t>(index) >= scene.cameras.size())
+            throw inputError(d.file.string(), "/camera/gltf",
+                             "glTF camera " + std::to_string(index) + " does not exist (the models have " +
+                                 std::to_string(scene.cameras.size()) + ")");
+        camera = scene.cameras[static_cast<std::size_t>(index)];
+    } else {
+        // Framing: look down -Z at the bounds' centre from a distance at which the bounding
+        // sphere fits the narrower of the vertical and horizontal fields of view:
+        // distance = radius / sin(halfAngle), tan(halfX) = tan(halfY) * aspect. The trigonometry
+        // runs in double (glibc's correctly rounded sin/tan/atan) and is rounded once to float.
+        camera.name = "framing";
+        const float fovYDeg = d.cameraFovYDeg.value_or(camera.fovYDeg);
+        camera.fovYDeg = fovYDeg;
+        const Bounds bounds = scene.bounds();
+        if (!bounds.empty()) {
+            const glm::vec3 centre = (bounds.minWorld + bounds.maxWorld) * 0.5f;
+            const glm::vec3 extent = bounds.maxWorld - bounds.minWorld;
+            const double radius = 0.5 * std::sqrt(double(extent.x) * extent.x + double(extent.y) * extent.y +
+                                                  double(extent.z) * extent.z);
+            const double aspect = double(d.width) / double(d.height);
+            const double halfY = double(fovYDeg) * (3.14159265358979323846 / 360.0);
+            const double halfX = std::atan(std::tan(halfY) * aspect);
+            const double half = std::min(halfX, halfY);
+            const double distance = radius > 0.0 ? radius / std::sin(half) : 1.0;
+            camera.positionWorld = centre + glm::vec3(0.0f, 0.0f, static_cast<float>(distance));
+            camera.nearZ = static_cast<float>(std::min(0.1, 0.5 * (distance - radius)));
+            if (!(camera.nearZ > 0.0f)) camera.nearZ = 0.1f;
+            camera.farZ = static_cast<float>(std::max(1000.0, 2.0 * (distance + radius)));
+        }
+    }
+    if (d.cameraFovYDeg) camera.fovYDeg = *d.cameraFovYDeg;
+    if (d.cameraNearZ) camera.nearZ = *d.cameraNearZ;
+    if (d.cameraFarZ) camera.farZ = *d.cameraFarZ;
+    if (!(camera.farZ > camera.nearZ))
+        throw inputError(d.file.string(), d.cameraFarZ ? "/camera/far" : "/camera/near",
+                         "far " + formatNumber(camera.farZ) + " is not greater than near " + formatNumber(camera.nearZ));
+    return camera;
+}
+
+Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
+    const std::string file = d.file.string();
+    Scene scene;
+    for (std::size_t i = 0; i < d.models.size(); ++i) {
+        const ModelRef& model = d.models[i];
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(model.path, ec))
+            throw inputError(file, "/models/" + std::to_string(i) + "/path", "model file not found: " + model.path.string());
+        GltfLoadOptions options;
+        options.loadImages = loadImages;
+        options.worldFromFile = model.worldFromFile;
+        loadGltf(model.path, scene, options);
+    }
+
+    // Lights: explicit, then the glTFs' own (loadGltf appended them), then generated.
+    std::vector<Light> gltfLights = std::move(scene.lights);
+    scene.lights = d.explicitLights;
+    if (d.useGltfLights) {
+        for (Light& light : gltfLights) {
+            if (light.type != LightType::Directional && std::isinf(light.range) && d.gltfLightDefaultRange > 0.0f)
+                light.range = d.gltfLightDefaultRange;
+            scene.lights.push_back(std::move(light));
+        }
+    }
+    Bounds bounds;
+    bool boundsKnown = false;
+    for (std::size_t i = 0; i < d.generators.size(); ++i) {
+        const LightGeneratorSpec& spec = d.generators[i];
+        if (!spec.box && !boundsKnown) {
+            bounds = scene.bounds();
+            boundsKnown = true;
+        }
+        if (!spec.box && bounds.empty())
+            throw inputError(file, "/generate/" + std::to_string(i), "the scene has no geometry to place lights in; give a \"box\"");
+        std::vector<Light> generated = generateLights(spec, bounds);
+        scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
+    }
+    if (cameraOut) *cameraOut = resolveCamera(d, scene);
+    return scene;
+}
+
+} // namespace tessera

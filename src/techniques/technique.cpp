@@ -1,0 +1,66 @@
+// The technique registry: ids, sources, and the builders of those implemented so far. The
+// planned rows are listed so that `tessera list` shows the whole roadmap and a scene file
+// naming one gets a clear "not implemented yet" instead of "unknown".
+#include <tessera/techniques/technique.h>
+
+#include <array>
+
+#include <tessera/io/input_error.h>
+#include <tessera/techniques/preview.h>
+
+namespace tessera {
+namespace {
+
+constexpr std::array<std::string_view, 0> kNoOptions{};
+
+const std::array<TechniqueInfo, 10> kTechniques{{
+    {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
+     kNoOptions},
+    {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (seed 000)", nullptr, kNoOptions},
+    {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward", "3dgep (seed 000)", nullptr,
+     kNoOptions},
+    {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)", nullptr, kNoOptions},
+    {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid", "3dgep (seed 000)", nullptr,
+     kNoOptions},
+    {"forward-plus-amd", "AMD Forward+ with 2.5D culling", "GPU Pro 4 (seed 002)", nullptr, kNoOptions},
+    {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel (seed 004)", nullptr, kNoOptions},
+    {"deferred-cookbook", "HLSL Development Cookbook deferred lighting", "seed 001", nullptr, kNoOptions},
+    {"deferred-classic", "classic deferred shading", "seed 003", nullptr, kNoOptions},
+    {"light-prepass", "light pre-pass (deferred lighting)", "seed 003", nullptr, kNoOptions},
+}};
+
+} // namespace
+
+std::span<const TechniqueInfo> techniques() { return kTechniques; }
+
+const TechniqueInfo* findTechnique(std::string_view id) {
+    for (const TechniqueInfo& t : kTechniques)
+        if (t.id == id) return &t;
+    return nullptr;
+}
+
+Frame buildTechnique(std::string_view id, const TechniqueContext& context, const std::string& sceneFile) {
+    const TechniqueInfo* t = findTechnique(id);
+    if (!t) {
+        std::string known;
+        for (const TechniqueInfo& k : kTechniques) known += (known.empty() ? "" : ", ") + std::string(k.id);
+        throw inputError(sceneFile, "/technique", "unknown technique '" + std::string(id) + "' (known: " + known + ")");
+    }
+    if (!t->build) {
+        std::string ready;
+        for (const TechniqueInfo& k : kTechniques)
+            if (k.build) ready += (ready.empty() ? "" : ", ") + std::string(k.id);
+        throw inputError(sceneFile, "/technique",
+                         "technique '" + std::string(id) + "' is not implemented yet (implemented: " + ready + ")");
+    }
+    if (context.options.is_object()) {
+        for (const auto& [key, value] : context.options.items()) {
+            bool known = false;
+            for (const std::string_view k : t->optionKeys) known = known || k == key;
+            if (!known) throw inputError(sceneFile, "/options/" + key, "technique '" + std::string(id) + "' has no option '" + key + "'");
+        }
+    }
+    return t->build(context);
+}
+
+} // namespace tessera

@@ -1,0 +1,469 @@
+// Tests of the scene file: a good file round-trips every field; every validation error names
+// the file and the JSON-pointer key path; the bundled scenes/*.json parse and their models
+// exist; the schema lists exactly the parser's top-level keys; loadScene builds cameras/lights.
+#include <tessera/io/input_error.h>
+#include <tessera/scene/scene_file.h>
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+namespace fs = std::filesystem;
+using tessera::CameraSource;
+using tessera::InputError;
+using tessera::LightType;
+using tessera::Precision;
+using tessera::SceneDescription;
+
+namespace {
+
+const fs::path kSceneFile = "/scenes/test/scene.json";
+const fs::path kSourceDir = TESSERA_SOURCE_DIR;
+
+// A minimal valid scene with `extra` top-level members spliced in (e.g. R"("resolution": [1, 2])").
+std::string scene(const std::string& extra = "") {
+    std::string text = R"({"models": [{"path": "m.gltf"}])";
+    if (!extra.empty()) text += ", " + extra;
+    return text + "}";
+}
+
+// Parsing `text` must throw an InputError naming the file, the key path and `what`.
+void expectError(const std::string& text, const std::string& keyPath, const std::string& what) {
+    CAPTURE(text);
+    std::string message;
+    try {
+        tessera::parseSceneJson(text, kSceneFile);
+    } catch (const InputError& e) {
+        message = e.what();
+    }
+    CAPTURE(message);
+    REQUIRE_FALSE(message.empty());
+    CHECK(message.find(kSceneFile.string() + ": ") == 0);
+    if (!keyPath.empty()) CHECK(message.find(": " + keyPath + ": ") != std::string::npos);
+    CHECK(message.find(what) != std::string::npos);
+}
+
+} // namespace
+
+TEST_CASE("a complete scene file round-trips every field") {
+    const std::string text = R"({
+      "$schema": "scene.schema.json",
+      "description": "all keys",
+      "models": [
+        {"path": "models/a.gltf"},
+        {"path": "/abs/b.glb", "translation": [1, 2, 3], "rotation": [0, 0, 0, 2], "scale": [2, 3, 4]},
+        {"path": "../c.gltf", "scale": 0.5}
+      ],
+      "camera": {"position": [1, 2, 3], "rotation": [0, 1, 0, 1], "fovYDeg": 60, "near": 0.5, "far": 50},
+      "resolution": [640, 360],
+      "technique": "deferred",
+      "options": {"tileSize": 16, "nested": {"a": [1, 2]}},
+      "precision": "reference",
+      "lights": [
+        {"type": "point", "name": "p", "position": [1, 2, 3], "color": [0.5, 0.25, 1], "intensity": 2, "range": 7, "enabled": false},
+        {"type": "spot", "position": [0, 1, 0], "direction": [0, -2, 0], "spotAngleDeg": 30},
+        {"type": "directional", "direction": [3, 0, 4]}
+      ],
+      "gltfLights": {"enabled": true, "defaultRange": 12},
+      "generate": [
+        {"count": 64, "seed": 18446744073709551615, "pointFraction": 0.25, "box": {"min": [-1, -2, -3], "max": [1, 2, 3]},
+         "range": [35, 40], "spotAngleDeg": [35, 60], "intensity": [0.5, 2], "colorMin": [0, 0.1, 0.2], "colorMax": [1, 0.9, 0.8]},
+        {"count": 0}
+      ]
+    })";
+    const SceneDescription d = tessera::parseSceneJson(text, kSceneFile);
+    CHECK(d.file == kSceneFile);
+    REQUIRE(d.models.size() == 3);
+    CHECK(d.models[0].path == fs::path("/scenes/test/models/a.gltf"));
+    CHECK(d.models[1].path == fs::path("/abs/b.glb"));
+    CHECK(d.models[2].path == fs::path("/scenes/c.gltf"));
+    CHECK(d.models[0].worldFromFile == glm::mat4(1.0f));
+    // T * R * S with R = the identity quaternion [0, 0, 0, 2] normalized.
+    const glm::mat4 m1 = d.models[1].worldFromFile;
+    CHECK(m1[0] == glm::vec4(2, 0, 0, 0));
+    CHECK(m1[1] == glm::vec4(0, 3, 0, 0));
+    CHECK(m1[2] == glm::vec4(0, 0, 4, 0));
+    CHECK(m1[3] == glm::vec4(1, 2, 3, 1));
+    CHECK(d.models[2].worldFromFile[1][1] == 0.5f);
+
+    CHECK(d.cameraSource == CameraSource::Explicit);
+    CHECK_FALSE(d.cameraFromGltf);
+    CHECK(d.camera.positionWorld == glm::vec3(1, 2, 3));
+    const float s = 1.0f / std::sqrt(2.0f);  // [0, 1, 0, 1] normalized: 90 degrees about +Y
+    CHECK(d.camera.orientationWorld.y == doctest::Approx(s));
+    CHECK(d.camera.orientationWorld.w == doctest::Approx(s));
+    CHECK(d.camera.orientationWorld.x == 0.0f);
+    CHECK(d.camera.fovYDeg == 60.0f);
+    CHECK(d.camera.nearZ == 0.5f);
+    CHECK(d.camera.farZ == 50.0f);
+
+    CHECK(d.width == 640);
+    CHECK(d.height == 360);
+    CHECK(d.technique == "deferred");
+    CHECK(d.techniqueOptions == nlohmann::json::parse(R"({"tileSize": 16, "nested": {"a": [1, 2]}})"));
+    CHECK(d.precision == Precision::Reference);
+
+    REQUIRE(d.explicitLights.size() == 3);
+    const auto& p = d.explicitLights[0];
+    CHECK(p.type == LightType::Point);
+    CHECK(p.name == "p");
+    CHECK(p.positionWorld == glm::vec3(1, 2, 3));
+    CHECK(p.color == glm::vec3(0.5f, 0.25f, 1.0f));
+    CHECK(p.intensity == 2.0f);
+    CHECK(p.range == 7.0f);
+    CHECK_FALSE(p.enabled);
+    const auto& sp = d.explicitLights[1];
+    CHECK(sp.type == LightType::Spot);
+    CHECK(sp.directionWorld == glm::vec3(0, -1, 0));
+    CHECK(sp.spotHalfAngleDeg == 30.0f);
+    CHECK(sp.range == 100.0f);  // 3dgep's default Range
+    CHECK(sp.color == glm::vec3(1.0f));
+    CHECK(sp.intensity == 1.0f);
+    CHECK(sp.enabled);
+    const auto& dl = d.explicitLights[2];
+    CHECK(dl.type == LightType::Directional);
+    CHECK(dl.directionWorld == glm::vec3(0.6f, 0.0f, 0.8f));
+    CHECK(std::isinf(dl.range));
+
+    CHECK(d.useGltfLights);
+    CHECK(d.gltfLightDefaultRange == 12.0f);
+
+    REQUIRE(d.generators.size() == 2);
+    const auto& g = d.generators[0];
+    CHECK(g.count == 64);
+    CHECK(g.seed == 18446744073709551615ull);
+    CHECK(g.pointFraction == 0.25f);
+    REQUIRE(g.box.has_value());
+    CHECK(g.box->minWorld == glm::vec3(-1, -2, -3));
+    CHECK(g.box->maxWorld == glm::vec3(1, 2, 3));
+    CHECK(g.range == glm::vec2(35, 40));
+    CHECK(g.spotHalfAngleDeg == glm::vec2(35, 60));
+    CHECK(g.intensity == glm::vec2(0.5f, 2.0f));
+    CHECK(g.colorMin == glm::vec3(0.0f, 0.1f, 0.2f));
+    CHECK(g.colorMax == glm::vec3(1.0f, 0.9f, 0.8f));
+    const auto& g1 = d.generators[1];
+    CHECK(g1.count == 0);
+    CHECK(g1.seed == 0);
+    CHECK_FALSE(g1.box.has_value());
+    CHECK(g1.range == glm::vec2(1, 2));
+}
+
+TEST_CASE("defaults of a minimal scene file") {
+    const SceneDescription d = tessera::parseSceneJson(scene(), kSceneFile);
+    CHECK(d.width == 1280);
+    CHECK(d.height == 720);
+    CHECK(d.technique == "forward");
+    CHECK(d.techniqueOptions == nlohmann::json::object());
+    CHECK(d.precision == Precision::Exact);
+    CHECK(d.cameraSource == CameraSource::Auto);
+    CHECK(d.explicitLights.empty());
+    CHECK_FALSE(d.useGltfLights);
+    CHECK(d.generators.empty());
+}
+
+TEST_CASE("camera forms: look-at, glTF camera, framing overrides") {
+    SceneDescription d = tessera::parseSceneJson(scene(R"("camera": {"position": [0, 0, 5], "target": [0, 0, 0]})"), kSceneFile);
+    CHECK(d.cameraSource == CameraSource::Explicit);
+    // Looking from +Z at the origin is the identity orientation (the camera looks down -Z).
+    CHECK(std::abs(d.camera.orientationWorld.w) == doctest::Approx(1.0));
+    const glm::vec3 forward = d.camera.orientationWorld * glm::vec3(0, 0, -1);
+    CHECK(forward.z == doctest::Approx(-1.0));
+
+    d = tessera::parseSceneJson(scene(R"("camera": {"position": [0, 0, 0], "target": [1, 0, 0], "up": [0, 2, 0]})"), kSceneFile);
+    const glm::vec3 f2 = d.camera.orientationWorld * glm::vec3(0, 0, -1);
+    CHECK(f2.x == doctest::Approx(1.0));
+    const glm::vec3 u2 = d.camera.orientationWorld * glm::vec3(0, 1, 0);
+    CHECK(u2.y == doctest::Approx(1.0));
+
+    d = tessera::parseSceneJson(scene(R"("camera": {"gltf": 2, "far": 80})"), kSceneFile);
+    CHECK(d.cameraSource == CameraSource::Gltf);
+    CHECK(d.cameraFromGltf);
+    CHECK(d.gltfCameraIndex == 2);
+    CHECK(d.cameraFarZ == 80.0f);
+    CHECK_FALSE(d.cameraNearZ.has_value());
+
+    d = tessera::parseSceneJson(scene(R"("camera": {"fovYDeg": 30})"), kSceneFile);
+    CHECK(d.cameraSource == CameraSource::Framing);
+    CHECK(d.cameraFovYDeg == 30.0f);
+}
+
+TEST_CASE("invalid JSON names the file and the position") {
+    expectError(R"({"models": [ })", "", "invalid JSON (byte ");
+    expectError("{\n  \"models\": [],\n  oops\n}", "", "line 3");
+    expectError(R"({"models": [{"path": "a"}], "x": NaN})", "", "invalid JSON");
+    expectError("[1, 2]", "", "expected an object, got array");
+}
+
+TEST_CASE("unknown keys are errors, with the nearest known key suggested") {
+    expectError(scene(R"("resolutoin": [1, 1])"), "/resolutoin", "did you mean \"resolution\"");
+    expectError(scene(R"("zzzzzzzz": 1)"), "/zzzzzzzz", "unknown key \"zzzzzzzz\" (known keys:");
+    expectError(R"({"models": [{"path": "a", "translate": [0, 0, 0]}]})", "/models/0/translate", "did you mean \"translation\"");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "colour": [1, 1, 1]}])"), "/lights/0/colour",
+                "did you mean \"color\"");
+    expectError(scene(R"("camera": {"fov": 40})"), "/camera/fov", "unknown key");
+    expectError(scene(R"("gltfLights": {"range": 3})"), "/gltfLights/range", "unknown key");
+    expectError(scene(R"("generate": [{"count": 1, "seeds": 3}])"), "/generate/0/seeds", "did you mean \"seed\"");
+    expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 0, 0], "max": [1, 1, 1], "mid": 1}}])"),
+                "/generate/0/box/mid", "unknown key");
+    expectError(scene(R"("a/b~c": 1)"), "/a~1b~0c", "unknown key");  // RFC 6901 escaping
+}
+
+TEST_CASE("wrong types name the key path and both types") {
+    expectError(scene(R"("resolution": ["1280", 720])"), "/resolution/0", "expected an integer, got string");
+    expectError(scene(R"("resolution": [1280.5, 720])"), "/resolution/0", "expected an integer, got number");
+    expectError(scene(R"("resolution": [1280])"), "/resolution", "expected an array of 2 elements, got 1");
+    expectError(scene(R"("resolution": {"w": 1})"), "/resolution", "expected an array, got object");
+    expectError(R"({"models": {"path": "a"}})", "/models", "expected an array, got object");
+    expectError(R"({"models": [{"path": 3}]})", "/models/0/path", "expected a string, got integer");
+    expectError(scene(R"("technique": 5)"), "/technique", "expected a string, got integer");
+    expectError(scene(R"("options": [1])"), "/options", "expected an object, got array");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, "1", 0]}])"), "/lights/0/position/1",
+                "expected a number, got string");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "enabled": 1}])"), "/lights/0/enabled",
+                "expected a boolean, got integer");
+    expectError(scene(R"("gltfLights": {"enabled": "yes"})"), "/gltfLights/enabled", "expected a boolean, got string");
+    expectError(scene(R"("generate": [{"count": null}])"), "/generate/0/count", "expected an integer, got null");
+    expectError(scene(R"("generate": {"count": 1})"), "/generate", "expected an array, got object");
+    expectError(R"({"models": [{"path": "a", "scale": "big"}]})", "/models/0/scale", "expected a number or an array");
+}
+
+TEST_CASE("values out of range") {
+    expectError(scene(R"("resolution": [0, 720])"), "/resolution/0", "0 is outside 1..16384");
+    expectError(scene(R"("resolution": [1280, 16385])"), "/resolution/1", "16385 is outside 1..16384");
+    expectError(scene(R"("resolution": [-5, 720])"), "/resolution/0", "-5 is outside 1..16384");
+    expectError(scene(R"("resolution": [1000000000, 720])"), "/resolution/0", "is outside 1..16384");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "range": -1}])"), "/lights/0/range", "-1 is negative");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "range": 0}])"), "/lights/0/range", "must be > 0");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "intensity": -0.5}])"), "/lights/0/intensity", "is negative");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "color": [1, -1, 1]}])"), "/lights/0/color/1", "is negative");
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "spotAngleDeg": 90}])"),
+                "/lights/0/spotAngleDeg", "90 is outside (0, 90)");
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, -1, 0], "spotAngleDeg": 0}])"),
+                "/lights/0/spotAngleDeg", "0 is outside (0, 90)");
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0]}])"), "/lights/0/direction", "zero");
+    expectError(scene(R"("generate": [{"count": 1000001}])"), "/generate/0/count", "1000001 is outside 0..1000000");
+    expectError(scene(R"("generate": [{"count": -1}])"), "/generate/0/count", "-1 is outside 0..1000000");
+    expectError(scene(R"("generate": [{"count": 1, "seed": -1}])"), "/generate/0/seed", "-1 is outside");
+    expectError(scene(R"("generate": [{"count": 1, "pointFraction": 1.5}])"), "/generate/0/pointFraction", "1.5 is outside [0, 1]");
+    expectError(scene(R"("generate": [{"count": 1, "range": [2, 1]}])"), "/generate/0/range", "min 2 is greater than max 1");
+    expectError(scene(R"("generate": [{"count": 1, "range": [0, 1]}])"), "/generate/0/range/0", "must be > 0");
+    expectError(scene(R"("generate": [{"count": 1, "range": [-3, 1]}])"), "/generate/0/range/0", "-3 is negative");
+    expectError(scene(R"("generate": [{"count": 1, "spotAngleDeg": [35, 95]}])"), "/generate/0/spotAngleDeg/1", "95 is outside (0, 90)");
+    expectError(scene(R"("generate": [{"count": 1, "spotAngleDeg": [60, 35]}])"), "/generate/0/spotAngleDeg", "greater than max");
+    expectError(scene(R"("generate": [{"count": 1, "intensity": [-1, 1]}])"), "/generate/0/intensity/0", "is negative");
+    expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 5, 0], "max": [1, 1, 1]}}])"), "/generate/0/box/min/1",
+                "min 5 is greater than max 1");
+    expectError(scene(R"("generate": [{"count": 1, "colorMin": [0.5, 0, 0], "colorMax": [0.4, 1, 1]}])"), "/generate/0/colorMin/0",
+                "greater than colorMax");
+    expectError(scene(R"("gltfLights": {"defaultRange": -2})"), "/gltfLights/defaultRange", "is negative");
+    expectError(R"({"models": [{"path": "a", "scale": 0}]})", "/models/0/scale", "must be > 0");
+    expectError(R"({"models": [{"path": "a", "scale": [1, -1, 1]}]})", "/models/0/scale/1", "is negative");
+    expectError(R"({"models": [{"path": "a", "rotation": [0, 0, 0, 0]}]})", "/models/0/rotation", "zero");
+    expectError(R"({"models": [{"path": "a", "rotation": [0, 0, 1]}]})", "/models/0/rotation", "array of 4 elements");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1], "fovYDeg": 180})"), "/camera/fovYDeg", "outside (0, 180)");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1], "near": 0})"), "/camera/near", "must be > 0");
+    expectError(scene(R"("camera": {"near": 10, "far": 5})"), "/camera/far", "not greater than near");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1], "near": 2000})"), "/camera/near",
+                "not greater than near");
+    expectError(scene(R"("camera": {"gltf": -1})"), "/camera/gltf", "is outside");
+}
+
+TEST_CASE("non-finite and non-binary32 numbers are rejected everywhere") {
+    // JSON has no NaN or Infinity literal; nlohmann_json 3.11 rejects an overflowing literal
+    // such as 1e999 while parsing (out_of_range 406), which is reported with its line/column.
+    expectError(scene(R"("lights": [{"type": "point", "position": [1e999, 0, 0]}])"), "",
+                "invalid JSON at line 1, column 76: number overflow parsing '1e999'");
+    expectError("{\n\"models\": [{\"path\": \"a\", \"translation\": [0, -1e999, 0]}]}", "",
+                "at line 2, column 45: number overflow parsing '-1e999'");
+    expectError(scene(R"("gltfLights": {"defaultRange": 1e400})"), "", "number overflow parsing '1e400'");
+    // Finite in double but not in binary32.
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "intensity": 1e39}])"), "/lights/0/intensity",
+                "outside the binary32 range");
+    expectError(R"({"models": [{"path": "a", "translation": [0, -3.5e38, 0]}]})", "/models/0/translation/1", "outside the binary32 range");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1e300]})"), "/camera/rotation/3", "binary32");
+    expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 0, 0], "max": [1e50, 1, 1]}}])"), "/generate/0/box/max/0",
+                "binary32");
+    // Finite values whose squares overflow binary32.
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [3e38, 3e38, 0]}])"), "/lights/0/direction",
+                "zero or too large");
+}
+
+TEST_CASE("structural errors: required keys, conflicting camera forms, light types, technique, precision") {
+    expectError("{}", "", "missing required key \"models\"");
+    expectError(R"({"models": []})", "/models", "at least one model");
+    expectError(R"({"models": [{}]})", "/models/0", "missing required key \"path\"");
+    expectError(R"({"models": [{"path": ""}]})", "/models/0/path", "empty");
+    expectError(scene(R"("technique": "")"), "/technique", "empty");
+    expectError(scene(R"("precision": "medium")"), "/precision", "unknown precision \"medium\"");
+    expectError(scene(R"("camera": {"gltf": 0, "position": [0, 0, 0]})"), "/camera/position", "not allowed together with \"gltf\"");
+    expectError(scene(R"("camera": {"rotation": [0, 0, 0, 1]})"), "/camera/rotation", "needs \"position\"");
+    expectError(scene(R"("camera": {"position": [0, 0, 0]})"), "/camera", "needs \"rotation\" or \"target\"");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1], "target": [1, 0, 0]})"), "/camera/target",
+                "not both");
+    expectError(scene(R"("camera": {"position": [1, 1, 1], "target": [1, 1, 1]})"), "/camera/target", "equals the position");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "target": [0, 5, 0]})"), "/camera/target", "parallel");
+    expectError(scene(R"("lights": [{"position": [0, 0, 0]}])"), "/lights/0", "missing required key \"type\"");
+    expectError(scene(R"("lights": [{"type": "area", "position": [0, 0, 0]}])"), "/lights/0/type", "unknown light type \"area\"");
+    expectError(scene(R"("lights": [{"type": "point"}])"), "/lights/0", "missing required key \"position\"");
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0]}])"), "/lights/0", "missing required key \"direction\"");
+    expectError(scene(R"("lights": [{"type": "directional", "direction": [0, -1, 0], "range": 5}])"), "/lights/0/range",
+                "not used by a directional light");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "spotAngleDeg": 30}])"), "/lights/0/spotAngleDeg",
+                "not used by a point light");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0]}, {"type": "point", "position": [0, 0, 0], "range": -4}])"),
+                "/lights/1/range", "-4 is negative");
+    expectError(scene(R"("generate": [{"seed": 3}])"), "/generate/0", "missing required key \"count\"");
+    expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 0, 0]}}])"), "/generate/0/box", "missing required key \"max\"");
+}
+
+TEST_CASE("parseSceneFile: a missing file and a file with an error name the file") {
+    const fs::path missing = fs::temp_directory_path() / "tessera-scene-test-does-not-exist.json";
+    try {
+        tessera::parseSceneFile(missing);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()) == missing.string() + ": no such file");
+    }
+    const fs::path bad = fs::temp_directory_path() / "tessera-scene-test-bad.json";
+    {
+        std::ofstream out(bad);
+        out << scene(R"("resolution": [0, 1])");
+    }
+    try {
+        tessera::parseSceneFile(bad);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()) == bad.string() + ": /resolution/0: 0 is outside 1..16384");
+    }
+    fs::remove(bad);
+}
+
+TEST_CASE("every bundled scenes/*.json parses and names model files that exist") {
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(kSourceDir / "scenes")) {
+        if (entry.path().extension() != ".json" || entry.path().filename() == "scene.schema.json") continue;
+        CAPTURE(entry.path().string());
+        ++count;
+        SceneDescription d;
+        REQUIRE_NOTHROW(d = tessera::parseSceneFile(entry.path()));
+        for (const auto& model : d.models) {
+            CAPTURE(model.path.string());
+            CHECK(fs::is_regular_file(model.path));
+        }
+    }
+    CHECK(count >= 3);  // default, sponza-large-lights, sponza-small-lights
+
+    const SceneDescription large = tessera::parseSceneFile(kSourceDir / "scenes/sponza-large-lights.json");
+    CHECK(large.width == 1280);
+    CHECK(large.height == 720);
+    CHECK(large.camera.fovYDeg == 45.0f);
+    CHECK(large.camera.nearZ == 0.1f);
+    CHECK(large.camera.farZ == 1000.0f);
+    REQUIRE(large.generators.size() == 1);
+    CHECK(large.generators[0].range == glm::vec2(35, 40));
+    CHECK(large.generators[0].box->minWorld == glm::vec3(-15.0f, 0.1f, -15.0f));
+    CHECK(large.generators[0].box->maxWorld == glm::vec3(15.0f, 15.0f, 15.0f));
+    const SceneDescription small = tessera::parseSceneFile(kSourceDir / "scenes/sponza-small-lights.json");
+    REQUIRE(small.generators.size() == 1);
+    CHECK(small.generators[0].range == glm::vec2(1, 2));
+    CHECK(small.generators[0].seed == large.generators[0].seed);
+
+    const SceneDescription byDefault = tessera::parseSceneFile(kSourceDir / "scenes/default.json");
+    CHECK(byDefault.width == 640);
+    CHECK(byDefault.height == 360);
+    CHECK(byDefault.technique == "preview");  // until the forward technique lands (issue 4)
+    CHECK(byDefault.explicitLights.size() >= 3);
+}
+
+TEST_CASE("the schema is valid JSON and lists exactly the parser's top-level keys") {
+    std::ifstream in(kSourceDir / "scenes/scene.schema.json");
+    REQUIRE(in);
+    nlohmann::json schema;
+    REQUIRE_NOTHROW(schema = nlohmann::json::parse(in));
+    CHECK(schema.at("$schema") == "https://json-schema.org/draft/2020-12/schema");
+    CHECK(schema.at("additionalProperties") == false);
+    std::set<std::string> schemaKeys;
+    for (const auto& item : schema.at("properties").items()) {
+        schemaKeys.insert(item.key());
+        CHECK_MESSAGE(item.value().contains("description"), item.key());
+    }
+    const auto& parserKeys = tessera::sceneFileTopLevelKeys();
+    CHECK(schemaKeys == std::set<std::string>(parserKeys.begin(), parserKeys.end()));
+    CHECK(parserKeys.size() == schemaKeys.size());
+    // Each parser key is accepted: a file using all of them parses.
+    CHECK_NOTHROW(tessera::parseSceneJson(R"({"$schema": "x", "description": "y", "models": [{"path": "a"}], "camera": {},
+        "resolution": [1, 1], "technique": "t", "options": {}, "precision": "fast", "lights": [], "gltfLights": {},
+        "generate": []})", kSceneFile));
+}
+
+TEST_CASE("loadScene: a missing model names the scene file, the key path and the resolved path") {
+    const SceneDescription d = tessera::parseSceneJson(
+        R"({"models": [{"path": "khronos/Box/glTF/Box.gltf"}, {"path": "nowhere/missing.gltf"}]})", kSourceDir / "scenes/x.json");
+    try {
+        (void)tessera::loadScene(d, false);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        CAPTURE(message);
+        CHECK(message.find((kSourceDir / "scenes/x.json").string() + ": /models/1/path: ") == 0);
+        CHECK(message.find((kSourceDir / "scenes/nowhere/missing.gltf").string()) != std::string::npos);
+    }
+}
+
+TEST_CASE("loadScene: lights in order (explicit, glTF, generated), generators fill the bounds, cameras") {
+    const std::string text = R"({
+      "models": [{"path": "khronos/Box/glTF/Box.gltf", "translation": [10, 0, 0], "scale": 2}],
+      "lights": [{"type": "point", "name": "first", "position": [0, 0, 0]}],
+      "gltfLights": {"defaultRange": 5},
+      "generate": [{"count": 100, "seed": 1, "pointFraction": 0.5},
+                   {"count": 3, "box": {"min": [100, 100, 100], "max": [101, 101, 101]}}]
+    })";
+    const SceneDescription d = tessera::parseSceneJson(text, kSourceDir / "scenes/x.json");
+    tessera::Camera camera;
+    const tessera::Scene s = tessera::loadScene(d, false, &camera);
+    REQUIRE(s.lights.size() == 1 + 100 + 3);  // Box has no KHR lights
+    CHECK(s.lights[0].name == "first");
+    const tessera::Bounds b = s.bounds();
+    CHECK(b.minWorld.x == doctest::Approx(9.0));  // the unit box scaled by 2 around x = 10
+    CHECK(b.maxWorld.x == doctest::Approx(11.0));
+    for (std::size_t i = 1; i <= 100; ++i) {
+        for (glm::length_t axis = 0; axis < 3; ++axis) {
+            CHECK(s.lights[i].positionWorld[axis] >= b.minWorld[axis]);
+            CHECK(s.lights[i].positionWorld[axis] <= b.maxWorld[axis]);
+        }
+    }
+    for (std::size_t i = 101; i < 104; ++i) CHECK(s.lights[i].positionWorld.x >= 100.0f);
+    // No camera in the file and none in Box.gltf: framing looks at the bounds' centre down -Z.
+    CHECK(camera.positionWorld.x == doctest::Approx(10.0));
+    CHECK(camera.positionWorld.z > b.maxWorld.z);
+    CHECK(camera.orientationWorld.w == 1.0f);
+    // The bounding sphere (radius sqrt(3)) fits the 45-degree vertical FOV: d = r / sin(22.5 deg).
+    const double radius = std::sqrt(3.0);
+    CHECK(double(camera.positionWorld.z) == doctest::Approx(radius / std::sin(22.5 * 3.14159265358979323846 / 180.0)).epsilon(1e-5));
+    CHECK(camera.nearZ > 0.0f);
+    CHECK(camera.farZ > camera.nearZ);
+
+    SceneDescription gltfCamera = tessera::parseSceneJson(
+        R"({"models": [{"path": "khronos/Box/glTF/Box.gltf"}], "camera": {"gltf": 0}})", kSourceDir / "scenes/x.json");
+    try {
+        (void)tessera::loadScene(gltfCamera, false, &camera);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("/camera/gltf: glTF camera 0 does not exist") != std::string::npos);
+    }
+}
+
+TEST_CASE("loadScene: the bundled default scene loads") {
+    const SceneDescription d = tessera::parseSceneFile(kSourceDir / "scenes/default.json");
+    tessera::Camera camera;
+    const tessera::Scene s = tessera::loadScene(d, false, &camera);
+    CHECK(s.lights.size() == d.explicitLights.size());
+    CHECK(s.instances.size() >= 3);
+    CHECK(camera.positionWorld == glm::vec3(0.0f, 2.2f, 7.5f));
+    CHECK(camera.farZ == 100.0f);
+}
