@@ -377,9 +377,11 @@ int info(const std::vector<std::string_view>& args) {
             ++primitives;
             geometryBytes += p.positionsObject.size() * sizeof(tessera::SceneVertex) + p.indices.size() * 4;
         }
-    // A full mip chain adds at most 1/3 of level 0 (1/4 + 1/16 + ...).
-    std::size_t textureBytes = 0;
-    for (const tessera::Image& img : scene.images) textureBytes += std::size_t(img.width) * img.height * 4 * 4 / 3;
+    // Decoded RGBA8 images stay in the Scene; their textures add a full mip chain, at most 1/3
+    // more than level 0 (1/4 + 1/16 + ...).
+    std::size_t imageBytes = 0;
+    for (const tessera::Image& img : scene.images) imageBytes += std::size_t(img.width) * img.height * 4;
+    const std::size_t textureBytes = imageBytes * 4 / 3;
     std::size_t lightsByType[3] = {0, 0, 0};
     for (const tessera::Light& l : scene.lights) ++lightsByType[int(l.type)];
     const tessera::Bounds b = scene.bounds();
@@ -400,9 +402,11 @@ int info(const std::vector<std::string_view>& args) {
                     b.maxWorld.y, b.maxWorld.z);
     // Render targets: the preview technique's 4 B colour + 4 B depth per pixel; others list theirs.
     const double targetsBytes = double(desc.width) * desc.height * 8.0;
-    std::printf("memory      about %.1f MiB: geometry %.1f MiB, textures with mips %.1f MiB, targets %.1f MiB\n",
-                double(geometryBytes + textureBytes + std::size_t(targetsBytes)) / 1048576.0, double(geometryBytes) / 1048576.0,
-                double(textureBytes) / 1048576.0, targetsBytes / 1048576.0);
+    const double mib = 1048576.0;
+    std::printf("memory      about %.1f MiB besides the program: geometry %.1f, decoded images %.1f, textures with mips %.1f, "
+                "targets %.1f MiB\n",
+                (double(geometryBytes + imageBytes + textureBytes) + targetsBytes) / mib, double(geometryBytes) / mib,
+                double(imageBytes) / mib, double(textureBytes) / mib, targetsBytes / mib);
     return 0;
 }
 

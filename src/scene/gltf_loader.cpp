@@ -28,6 +28,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
+#include <tbb/parallel_for.h>
 
 #include <tessera/io/input_error.h>
 
@@ -253,20 +254,22 @@ bool loadImageData(tinygltf::Image* image, const int imageIndex, std::string* er
                    int /*reqWidth*/, int /*reqHeight*/, const unsigned char* bytes, int size, void* userData) {
     auto& state = *static_cast<ImageLoaderState*>(userData);
     if (image->bufferView >= 0) return true;
-    Image decoded;
-    const std::string problem = decodeImage(bytes, size > 0 ? std::size_t(size) : 0, image->mimeType, image->uri,
-                                            !state.loadImages, decoded);
+    // Only the header here (size and format checks); the encoded bytes are kept and decoded
+    // later by readImages, all images in parallel.
+    Image header;
+    const std::string problem =
+        decodeImage(bytes, size > 0 ? std::size_t(size) : 0, image->mimeType, image->uri, true, header);
     if (!problem.empty()) {
         state.errors.emplace_back(imageIndex, problem);
         if (err) *err += problem + "\n";
         return false;
     }
-    image->width = int(decoded.width);
-    image->height = int(decoded.height);
+    image->width = int(header.width);
+    image->height = int(header.height);
     image->component = 4;
     image->bits = 8;
     image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image = std::move(decoded.rgba8);
+    if (state.loadImages) image->image.assign(bytes, bytes + size);  // still encoded (PNG, JPEG)
     return true;
 }
 
@@ -887,28 +890,47 @@ private:
 
     // ---- images, textures, materials
 
+    // Checks every image record in file order, then decodes them all in parallel (each image is
+    // independent, so the bytes do not depend on scheduling); the first failing image in file
+    // order is the one reported.
     void readImages() {
+        struct Pending {
+            const unsigned char* bytes = nullptr;
+            std::size_t size = 0;
+            std::string uri;
+        };
+        std::vector<Image> images(mModel.images.size());
+        std::vector<Pending> pending(mModel.images.size());
         for (std::size_t i = 0; i < mModel.images.size(); ++i) {
             tinygltf::Image& gltfImage = mModel.images[i];
             const std::string path = indexPath("/images", i);
-            Image image;
+            Image& image = images[i];
             const bool external = !gltfImage.uri.empty() && gltfImage.bufferView < 0;
             image.source = external ? (mFolder / percentDecoded(gltfImage.uri)).string() : mFile + "#" + path;
             if (gltfImage.bufferView >= 0) {
-                const unsigned char* bytes = bufferViewData(gltfImage.bufferView, path + "/bufferView");
-                const std::size_t size = mModel.bufferViews[std::size_t(gltfImage.bufferView)].byteLength;
-                const std::string problem =
-                    decodeImage(bytes, size, gltfImage.mimeType, {}, !mOptions.loadImages, image);
-                if (!problem.empty()) fail(path, problem);
+                pending[i].bytes = bufferViewData(gltfImage.bufferView, path + "/bufferView");
+                pending[i].size = mModel.bufferViews[std::size_t(gltfImage.bufferView)].byteLength;
             } else if (gltfImage.width < 1) {
                 // tinygltf only warns when an external image cannot be read.
                 fail(path + "/uri", "cannot read the image file '" + image.source + "'");
             } else {
                 image.width = std::uint32_t(gltfImage.width);
                 image.height = std::uint32_t(gltfImage.height);
-                image.rgba8 = std::move(gltfImage.image);
+                pending[i] = {gltfImage.image.data(), gltfImage.image.size(), gltfImage.uri};
+                if (!mOptions.loadImages) pending[i].bytes = nullptr;  // header already read
             }
-            mOut.images.push_back(std::move(image));
+        }
+        std::vector<std::string> problems(images.size());
+        tbb::parallel_for(std::size_t(0), images.size(), [&](std::size_t i) {
+            if (pending[i].bytes == nullptr) return;
+            problems[i] = decodeImage(pending[i].bytes, pending[i].size, mModel.images[i].mimeType, pending[i].uri,
+                                      !mOptions.loadImages, images[i]);
+        });
+        for (std::size_t i = 0; i < images.size(); ++i) {
+            if (!problems[i].empty()) fail(indexPath("/images", i), problems[i]);
+            mModel.images[i].image.clear();
+            mModel.images[i].image.shrink_to_fit();
+            mOut.images.push_back(std::move(images[i]));
         }
     }
 

@@ -127,7 +127,10 @@ public:
                 what += " (did you mean \"" + std::string(best) + "\"?)";
             else {
                 what += " (known keys:";
-                for (std::string_view candidate : allowed) what += " " + std::string(candidate);
+                for (std::string_view candidate : allowed) {
+                    what += ' ';  // appended piecewise: GCC 12 -O3 -Wrestrict misfires on " " + string
+                    what += candidate;
+                }
                 what += ")";
             }
             fail(at(path, key), what);
