@@ -182,3 +182,16 @@ TEST_CASE("cli: the default scene renders with no arguments beyond render, and i
     for (const char* line : {"triangles ", "materials ", "lights ", "bounds ", "memory "})
         CHECK_MESSAGE(i.output.find(line) != std::string::npos, line);
 }
+
+TEST_CASE("cli: a glTF file renders directly with the preview technique and a framing camera") {
+    const auto out = scratch("box.png");
+    std::filesystem::remove(out);
+    const std::string box = std::string(TESSERA_SOURCE_DIR) + "/scenes/khronos/BoxTextured/glTF/BoxTextured.gltf";
+    const Run r = run("render " + box + " --out " + out.string() + " --width 64 --height 64 --quiet");
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(std::filesystem::exists(out));
+    const Run bad = run("render " + std::string(TESSERA_SOURCE_DIR) + "/README.md --out " + out.string());
+    CHECK(bad.exitCode == 2);
+    CHECK(bad.output.find("not a scene file") != std::string::npos);
+}
