@@ -1,0 +1,149 @@
+// Per-pass frame times of the scene techniques on the 3dgep experiment (seed 000 §5): Sponza at
+// 1280x720 with N generated lights (large: range 35-40, small: range 1-2), median over frames
+// after a warm-up, at each thread count. Prints a markdown table; command and results in
+// bench/RESULTS.md.
+//
+// Usage: technique_bench [--techniques forward,deferred] [--scenario large|small]
+//                        [--lights 1,2,4,...] [--threads 1,2] [--frames 5] [--warmup 1]
+//                        [--width 1280 --height 720]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <tessera/scene/scene_file.h>
+#include <tessera/techniques/technique.h>
+
+namespace {
+
+using namespace tessera;
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= s.size()) {
+        const std::size_t end = std::min(s.find(',', start), s.size());
+        if (end > start) out.push_back(s.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+std::vector<std::uint32_t> splitUints(const std::string& flag, const std::string& s) {
+    std::vector<std::uint32_t> out;
+    for (const std::string& item : splitList(s)) {
+        char* tail = nullptr;
+        const unsigned long v = std::strtoul(item.c_str(), &tail, 10);
+        if (*tail != '\0' || v > 1000000) {
+            std::fprintf(stderr, "%s: '%s' is not a count in 0..1000000\n", flag.c_str(), item.c_str());
+            std::exit(2);
+        }
+        out.push_back(std::uint32_t(v));
+    }
+    return out;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> techniquesToRun = {"forward", "deferred"};
+    std::string scenario = "large";
+    std::vector<std::uint32_t> lightCounts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
+    std::vector<std::uint32_t> threadCounts = {1, 2};
+    std::uint32_t frames = 5, warmup = 1, width = 1280, height = 720;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "%s needs a value\n", a.c_str());
+            return 2;
+        }
+        const std::string v = argv[++i];
+        if (a == "--techniques") techniquesToRun = splitList(v);
+        else if (a == "--scenario") scenario = v;
+        else if (a == "--lights") lightCounts = splitUints(a, v);
+        else if (a == "--threads") threadCounts = splitUints(a, v);
+        else if (a == "--frames") frames = std::max(1u, splitUints(a, v).at(0));
+        else if (a == "--warmup") warmup = splitUints(a, v).at(0);
+        else if (a == "--width") width = splitUints(a, v).at(0);
+        else if (a == "--height") height = splitUints(a, v).at(0);
+        else {
+            std::fprintf(stderr, "unknown option %s\n", a.c_str());
+            return 2;
+        }
+    }
+    if (scenario != "large" && scenario != "small") {
+        std::fprintf(stderr, "--scenario: '%s' is not large or small\n", scenario.c_str());
+        return 2;
+    }
+    for (const std::string& t : techniquesToRun) {
+        const TechniqueInfo* info = findTechnique(t);
+        if (!info || !info->build) {
+            std::fprintf(stderr, "--techniques: '%s' is not an implemented technique\n", t.c_str());
+            return 2;
+        }
+    }
+
+    // One load with the largest count: a generator draws its lights one after another from one
+    // PCG32 stream, so the first N of a count-M generator are exactly a count-N generator's lights.
+    const std::filesystem::path file =
+        std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / ("sponza-" + scenario + "-lights.json");
+    SceneDescription desc = parseSceneFile(file);
+    const std::uint32_t maxLights = lightCounts.empty() ? 0 : *std::max_element(lightCounts.begin(), lightCounts.end());
+    for (auto& g : desc.generators) g.count = maxLights;
+    Camera camera;
+    Scene scene = loadScene(desc, true, &camera);
+    const std::vector<Light> allLights = scene.lights;
+    const SceneResources resources(scene);
+
+    std::printf("| technique | lights | threads | passes (median ms) | frame ms |\n|---|---|---|---|---|\n");
+    for (const std::string& technique : techniquesToRun)
+        for (const std::uint32_t n : lightCounts)
+            for (const std::uint32_t threads : threadCounts) {
+                scene.lights.assign(allLights.begin(), allLights.begin() + std::min<std::size_t>(n, allLights.size()));
+                Device device(DeviceConfig{64, threads});
+                DrawStats stats;
+                TechniqueContext ctx;
+                ctx.device = &device;
+                ctx.resources = &resources;
+                ctx.camera = camera;
+                ctx.width = width;
+                ctx.height = height;
+                ctx.options = desc.techniqueOptions;
+                ctx.stats = &stats;
+                const Frame frame = buildTechnique(technique, ctx, file.string());
+                std::map<std::string, std::vector<double>> passMs;
+                std::vector<std::string> order;
+                std::vector<double> frameMs;
+                for (std::uint32_t f = 0; f < warmup + frames; ++f) {
+                    BufferRegistry registry;
+                    const auto t0 = std::chrono::steady_clock::now();
+                    const auto timings = frame.run(registry);
+                    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+                    if (f < warmup) continue;
+                    frameMs.push_back(ms);
+                    for (const PassTiming& t : timings) {
+                        if (!passMs.count(t.name)) order.push_back(t.name);
+                        passMs[t.name].push_back(t.milliseconds);
+                    }
+                }
+                std::string passes;
+                for (const std::string& name : order) {
+                    char buf[96];
+                    std::snprintf(buf, sizeof buf, "%s%s %.2f", passes.empty() ? "" : ", ", name.c_str(), median(passMs[name]));
+                    passes += buf;
+                }
+                std::printf("| %s | %u | %u | %s | %.2f |\n", technique.c_str(), n, threads, passes.c_str(), median(frameMs));
+                std::fflush(stdout);
+            }
+    return 0;
+}
