@@ -284,6 +284,9 @@ int render(const std::vector<std::string_view>& args) {
     ctx.options = desc.techniqueOptions;
     ctx.precision = desc.precision;
     ctx.stats = &drawStats;
+    std::map<std::string, std::uint64_t> variantCounts;
+    ctx.variantCounts = &variantCounts;
+    ctx.sceneFile = sceneFile.string();
     const tessera::Frame frame = tessera::buildTechnique(desc.technique, ctx, sceneFile.string());
 
     try {
@@ -306,6 +309,8 @@ int render(const std::vector<std::string_view>& args) {
             for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
             std::printf("frame    %9.3f ms\n", frameMs);
             printDrawStats(drawStats);
+            for (const auto& [variant, draws] : variantCounts)
+                std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
         }
         if (!o.quiet) std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;

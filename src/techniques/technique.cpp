@@ -6,6 +6,7 @@
 #include <array>
 
 #include <tessera/io/input_error.h>
+#include <tessera/techniques/forward.h>
 #include <tessera/techniques/preview.h>
 
 namespace tessera {
@@ -16,7 +17,8 @@ constexpr std::array<std::string_view, 0> kNoOptions{};
 const std::array<TechniqueInfo, 10> kTechniques{{
     {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
      kNoOptions},
-    {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (seed 000)", nullptr, kNoOptions},
+    {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (seed 000)", &buildForward,
+     kForwardOptionKeys},
     {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward", "3dgep (seed 000)", nullptr,
      kNoOptions},
     {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)", nullptr, kNoOptions},

@@ -376,7 +376,7 @@ TEST_CASE("every bundled scenes/*.json parses and names model files that exist")
     const SceneDescription byDefault = tessera::parseSceneFile(kSourceDir / "scenes/default.json");
     CHECK(byDefault.width == 640);
     CHECK(byDefault.height == 360);
-    CHECK(byDefault.technique == "preview");  // until the forward technique lands (issue 4)
+    CHECK(byDefault.technique == "forward");
     CHECK(byDefault.explicitLights.size() >= 3);
 }
 

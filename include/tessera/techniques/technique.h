@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -25,6 +26,9 @@ struct TechniqueContext {
     nlohmann::json options = nlohmann::json::object();  // the scene file's "options"
     Precision precision = Precision::Exact;
     DrawStats* stats = nullptr;                // accumulated over every draw of the frame
+    // Draws per shader variant ("exact:diffuse+normal", ...), for --stats; may be null.
+    std::map<std::string, std::uint64_t>* variantCounts = nullptr;
+    std::string sceneFile;                     // named in the InputErrors of option values
 };
 
 struct TechniqueInfo {

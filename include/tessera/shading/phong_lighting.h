@@ -1,0 +1,214 @@
+// The 3dgep lighting model (seed 000 §4; the demo's CommonInclude.hlsl), written once and
+// generic over the scalar: T = float is the `exact` precision mode, T = double `reference`.
+// Everything works on 4-component vectors as the HLSL does (dot products include w), with the
+// article's order of operations, since multiplication order decides the bits.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include <glm/glm.hpp>
+
+#include <tessera/math/det_math.h>
+#include <tessera/scene/light.h>
+
+namespace tessera {
+
+template <class T>
+using Vec4 = glm::vec<4, T, glm::defaultp>;
+template <class T>
+using Vec3 = glm::vec<3, T, glm::defaultp>;
+
+// HLSL intrinsics with the evaluation order tessera fixes (HLSL itself leaves the order of a
+// dp4's additions and the precision of rsqrt to the hardware):
+namespace hlsl {
+
+// D3D11.3 §3.1 min/max: a NaN operand yields the other operand.
+template <class T>
+constexpr T max(T a, T b) {
+    if (a != a) return b;
+    if (b != b) return a;
+    return b > a ? b : a;
+}
+// saturate: clamp to [0, 1]; NaN -> 0 (D3D11.3 §3.1 "saturate ... NaN -> 0").
+template <class T>
+constexpr T saturate(T x) {
+    return x > T(0) ? (x < T(1) ? x : T(1)) : T(0);
+}
+// dp4 summed left to right: ((x*x' + y*y') + z*z') + w*w'.
+template <class T>
+constexpr T dot(const Vec4<T>& a, const Vec4<T>& b) {
+    return ((a.x * b.x + a.y * b.y) + a.z * b.z) + a.w * b.w;
+}
+template <class T>
+constexpr T dot(const Vec3<T>& a, const Vec3<T>& b) {
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+}
+// Unary minus as a sign flip (glm's operator- computes 0 - v, which turns -0 into +0).
+template <class T>
+constexpr Vec4<T> neg(const Vec4<T>& v) {
+    return {-v.x, -v.y, -v.z, -v.w};
+}
+// length = sqrt(dot(v, v)) (IEEE sqrt, correctly rounded).
+template <class T>
+T length(const Vec4<T>& v) {
+    return std::sqrt(dot(v, v));
+}
+// normalize: v / sqrt(dot(v, v)). HLSL compiles normalize to v * rsq(dot(v, v)), whose rsq is
+// an approximation (D3D11.3 §22.10.29: 2^-21.6 relative); tessera chooses the correctly
+// rounded form so the result does not depend on an rsq implementation.
+template <class T>
+Vec4<T> normalize(const Vec4<T>& v) {
+    return v / std::sqrt(dot(v, v));
+}
+template <class T>
+Vec3<T> normalize(const Vec3<T>& v) {
+    return v / std::sqrt(dot(v, v));
+}
+// reflect(i, n) = i - 2 * dot(n, i) * n (doubling is exact, so 2*d*n == (2*n)*d bit for bit).
+template <class T>
+Vec4<T> reflect(const Vec4<T>& i, const Vec4<T>& n) {
+    return i - (T(2) * dot(n, i)) * n;
+}
+// lerp(a, b, s) = a + s * (b - a).
+template <class T>
+constexpr T lerp(T a, T b, T s) {
+    return a + s * (b - a);
+}
+// smoothstep(a, b, x): t = saturate((x - a) / (b - a)); t * t * (3 - 2 * t).
+template <class T>
+constexpr T smoothstep(T a, T b, T x) {
+    const T t = saturate((x - a) / (b - a));
+    return t * t * (T(3) - T(2) * t);
+}
+// radians(x) = x * (pi / 180), the constant rounded to T.
+template <class T>
+constexpr T radians(T degrees) {
+    return degrees * T(0.017453292519943295769);
+}
+
+} // namespace hlsl
+
+// The article's Light struct in view space (seed 000 §2; 112 bytes there, a plain value here).
+// positionView = View * (positionWorld, 1); directionView = normalize(View * (directionWorld, 0)).
+template <class T>
+struct ViewLight {
+    Vec4<T> positionView{T(0), T(0), T(0), T(1)};
+    Vec4<T> directionView{T(0), T(0), T(-1), T(0)};
+    Vec4<T> color{T(1)};              // one colour for diffuse and specular (w as given: 1)
+    T spotlightAngleDeg = T(45);      // half angle of the cone, degrees
+    T range = T(100);                 // view-space units (the view matrix is rigid)
+    T intensity = T(1);
+    bool enabled = true;
+    LightType type = LightType::Point;
+};
+
+template <class T>
+struct LightingResult {
+    Vec4<T> diffuse{T(0)};
+    Vec4<T> specular{T(0)};
+};
+
+// DoDiffuse: light.Color * max(dot(N, L), 0).
+template <class T>
+Vec4<T> doDiffuse(const ViewLight<T>& light, const Vec4<T>& lightDirView, const Vec4<T>& normalView) {
+    const T nDotL = hlsl::max(hlsl::dot(normalView, lightDirView), T(0));
+    return light.color * nDotL;
+}
+
+// DoSpecular (Phong, not Blinn-Phong): R = normalize(reflect(-L, N)); Color * pow(max(R.V, 0), p).
+template <class T>
+Vec4<T> doSpecular(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView, const Vec4<T>& lightDirView,
+                   const Vec4<T>& normalView) {
+    const Vec4<T> reflected = hlsl::normalize(hlsl::reflect(hlsl::neg(lightDirView), normalView));
+    const T rDotV = hlsl::max(hlsl::dot(reflected, viewDirView), T(0));
+    return light.color * detPow(rDotV, specularPower);
+}
+
+// DoAttenuation: 1 - smoothstep(0.75 Range, Range, d): 1 below 0.75 Range, 0 from Range on.
+template <class T>
+T doAttenuation(const ViewLight<T>& light, T distance) {
+    return T(1) - hlsl::smoothstep(light.range * T(0.75), light.range, distance);
+}
+
+// DoSpotCone: minCos = cos(radians(angle)); maxCos = lerp(minCos, 1, 0.5);
+// smoothstep(minCos, maxCos, dot(DirectionVS, -L)).
+template <class T>
+T doSpotCone(const ViewLight<T>& light, const Vec4<T>& lightDirView) {
+    const T minCos = detCos(hlsl::radians(light.spotlightAngleDeg));
+    const T maxCos = hlsl::lerp(minCos, T(1), T(0.5));
+    const T cosAngle = hlsl::dot(light.directionView, hlsl::neg(lightDirView));
+    return hlsl::smoothstep(minCos, maxCos, cosAngle);
+}
+
+// DoPointLight: L = PositionVS - P; d = length(L); L /= d; x attenuation x Intensity.
+template <class T>
+LightingResult<T> doPointLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
+                               const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
+    Vec4<T> lightDir = light.positionView - posView;
+    const T distance = hlsl::length(lightDir);
+    lightDir = lightDir / distance;
+    const T attenuation = doAttenuation(light, distance);
+    LightingResult<T> result;
+    result.diffuse = doDiffuse(light, lightDir, normalView) * attenuation * light.intensity;
+    if (withSpecular)
+        result.specular = doSpecular(light, specularPower, viewDirView, lightDir, normalView) * attenuation * light.intensity;
+    return result;
+}
+
+// DoSpotLight: as the point light, x spotIntensity between attenuation and Intensity.
+template <class T>
+LightingResult<T> doSpotLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
+                              const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
+    Vec4<T> lightDir = light.positionView - posView;
+    const T distance = hlsl::length(lightDir);
+    lightDir = lightDir / distance;
+    const T attenuation = doAttenuation(light, distance);
+    const T spotIntensity = doSpotCone(light, lightDir);
+    LightingResult<T> result;
+    result.diffuse = doDiffuse(light, lightDir, normalView) * attenuation * spotIntensity * light.intensity;
+    if (withSpecular)
+        result.specular =
+            doSpecular(light, specularPower, viewDirView, lightDir, normalView) * attenuation * spotIntensity * light.intensity;
+    return result;
+}
+
+// DoDirectionalLight: L = normalize(-DirectionVS); x Intensity.
+template <class T>
+LightingResult<T> doDirectionalLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
+                                     const Vec4<T>& normalView, bool withSpecular = true) {
+    const Vec4<T> lightDir = hlsl::normalize(hlsl::neg(light.directionView));
+    LightingResult<T> result;
+    result.diffuse = doDiffuse(light, lightDir, normalView) * light.intensity;
+    if (withSpecular) result.specular = doSpecular(light, specularPower, viewDirView, lightDir, normalView) * light.intensity;
+    return result;
+}
+
+// DoLighting: V = normalize(eye - P) with eye = (0,0,0,1); lights in span order; skips disabled
+// lights and non-directional lights with length(PositionVS - P) > Range (strict: a pixel exactly
+// at Range is shaded, and gets attenuation 0). Sums Diffuse and Specular in light order.
+// withSpecular = false leaves Specular at 0 without evaluating it: the pixel shaders pass
+// SpecularPower > 1, since they ignore lit.Specular otherwise (the image is the same bits).
+template <class T>
+LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPower, const Vec4<T>& posView,
+                             const Vec4<T>& normalView, bool withSpecular = true) {
+    const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
+    const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
+    LightingResult<T> total;
+    for (const ViewLight<T>& light : lights) {
+        if (!light.enabled) continue;
+        if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) continue;
+        LightingResult<T> result;
+        switch (light.type) {
+        case LightType::Directional: result = doDirectionalLight(light, specularPower, viewDirView, normalView, withSpecular); break;
+        case LightType::Point: result = doPointLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+        case LightType::Spot: result = doSpotLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+        }
+        total.diffuse += result.diffuse;
+        total.specular += result.specular;
+    }
+    return total;
+}
+
+} // namespace tessera

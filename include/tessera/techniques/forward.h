@@ -1,0 +1,44 @@
+// The `forward` technique of seed 000 (3dgep): clear, opaque pass, transparent pass with alpha
+// blending, every light evaluated per pixel by the article's pixel shader
+// (shading/phong_material_shader.h). Pass states follow the demo's main.cpp (seed 000 §10,
+// reference-implementations.md §1.7); options select faithful or corrected behaviour.
+#pragma once
+
+#include <array>
+#include <string_view>
+
+#include <glm/glm.hpp>
+
+#include <tessera/techniques/technique.h>
+
+namespace tessera {
+
+// Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY):
+//   "projection": "demo-gl" (default, faithful) | "d3d" (corrected).
+//       demo-gl: the demo's glm::perspective in OpenGL form ([2][2] = -(f+n)/(f-n),
+//       [3][2] = -2fn/(f-n)) used unchanged under D3D clipping 0 <= z <= w, so the effective
+//       near plane is at view z = -2fn/(f+n) (-0.19998 for n = 0.1, f = 1000) and the depth
+//       buffer holds GL NDC z (seed 000 §10, reference-implementations.md §1.5).
+//       d3d: perspectiveRH_ZO, near plane at -n, depth 0 at the near plane.
+//   "sampler": "demo" (default: the demo's LinearRepeatSampler, trilinear + wrap, for every
+//       slot) | "gltf" (each texture's glTF sampler).
+//   "alphaTest": false (default: the demo's forward PS applies no AlphaThreshold, seed 000 §9.4)
+//       | true (discard when alpha * Opacity < AlphaThreshold, as the demo's G-buffer PS does;
+//       makes glTF MASK cut-outs work).
+inline constexpr std::array<std::string_view, 3> kForwardOptionKeys{"projection", "sampler", "alphaTest"};
+
+// Buffers: "backbuffer" R8G8B8A8_UNORM (the demo's gamma-space values, no sRGB encode),
+// "depth" D24_UNORM_S8_UINT; with precision reference also "backbuffer.reference"
+// R32G32B32A32_FLOAT (the double shading rounded once to float, not quantized to 8 bits).
+// Precision fast is an InputError naming "/precision".
+Frame buildForward(const TechniqueContext& context);
+
+enum class ProjectionConvention { DemoGl, D3d };
+
+// The 3dgep projection of `camera` (vertical FOV, aspect = camera.aspect or `aspect`). The
+// tangent comes from detTan (no libm); the element formulas are glm's (0.9.6.3 perspective for
+// DemoGl, perspectiveRH_ZO for D3d). Infinite far: the limits f -> inf. Orthographic cameras:
+// orthoRH_NO / orthoRH_ZO.
+glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention);
+
+} // namespace tessera

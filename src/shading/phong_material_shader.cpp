@@ -1,0 +1,326 @@
+// The 3dgep pixel shader (seed 000 §4, the demo's ForwardRendering.hlsl PS_main) as one template
+// over the scalar and the material's feature mask, its variant table, the texel-offset Sample of
+// the bump-mapping path, the UNORM texture set and the view-space light conversion.
+#include <tessera/shading/phong_material_shader.h>
+
+#include <array>
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include <tbb/parallel_for.h>
+
+namespace tessera {
+namespace {
+
+// D3D11.3 §3.1 min: a NaN operand yields the other operand.
+inline float d3dMin(float a, float b) {
+    if (a != a) return b;
+    if (b != b) return a;
+    return b < a ? b : a;
+}
+
+template <class T>
+Vec3<T> cross3(const Vec3<T>& a, const Vec3<T>& b) {  // HLSL cross: a.yzx * b.zxy - a.zxy * b.yzx
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+Vec3<T> neg3(const Vec3<T>& v) {
+    return {-v.x, -v.y, -v.z};
+}
+// mul(v, float3x3(T, B, N)) with the rows T, B, N: v.x * T + v.y * B + v.z * N, left to right.
+template <class T>
+Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Vec3<T>& n) {
+    return (t * v.x + b * v.y) + n * v.z;
+}
+// The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
+template <class T>
+Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
+    const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
+    return any ? color * texel : texel;
+}
+
+template <class T, std::uint32_t F>
+bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in, Vec4<T>& color) {
+    const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
+    const PhongVaryings& v = in.varyings;
+
+    // Diffuse, alpha (and the optional cut-out) first: a discarded pixel needs nothing else.
+    Vec4<T> diffuse = d.diffuseColor;
+    if constexpr ((F & kPhongDiffuseTexture) != 0)
+        if (d.diffuseTexture.bound()) diffuse = textureRule(diffuse, texel(d.diffuseTexture));
+    T alpha = d.ignoreDiffuseAlpha ? T(1) : diffuse.w;
+    if constexpr ((F & kPhongOpacityTexture) != 0)
+        if (d.opacityTexture.bound()) alpha = texel(d.opacityTexture).x;  // .r: 1-channel textures return a = 1
+    if constexpr ((F & kPhongAlphaTest) != 0)
+        if (alpha * d.opacity < d.alphaThreshold) return false;  // the demo's G-buffer PS test
+
+    Vec4<T> ambient = d.ambientColor;
+    if constexpr ((F & kPhongAmbientTexture) != 0)
+        if (d.ambientTexture.bound()) ambient = textureRule(ambient, texel(d.ambientTexture));
+    ambient *= d.globalAmbient;
+
+    Vec4<T> emissive = d.emissiveColor;
+    if constexpr ((F & kPhongEmissiveTexture) != 0)
+        if (d.emissiveTexture.bound()) emissive = textureRule(emissive, texel(d.emissiveTexture));
+
+    T specularPower = d.specularPower;
+    if constexpr ((F & kPhongSpecularPowerTexture) != 0)
+        if (d.specularPowerTexture.bound()) specularPower = texel(d.specularPowerTexture).x * d.specularScale;
+
+    Vec4<T> normalView;
+    bool mapped = false;
+    if constexpr ((F & kPhongNormalMap) != 0) {
+        if (d.normalTexture.bound()) {  // DoNormalMapping: normalize(mul(tex * 2 - 1, TBN))
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(Vec3<T>(v.binormalView));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const Vec3<T> expanded = Vec3<T>(texel(d.normalTexture)) * T(2) - T(1);
+            normalView = hlsl::normalize(Vec4<T>(mulRowTbn(expanded, t, b, n), T(0)));
+            mapped = true;
+        }
+    }
+    if constexpr ((F & kPhongBumpMap) != 0) {
+        if (!mapped && d.bumpTexture.bound()) {  // DoBumpMapping with the negated binormal; NOT normalized
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(neg3(Vec3<T>(v.binormalView)));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const T height = T(d.bumpTexture.sample(in).x) * d.bumpIntensity;
+            const T heightU = T(d.bumpTexture.sample(in, glm::ivec2(1, 0)).x) * d.bumpIntensity;
+            const T heightV = T(d.bumpTexture.sample(in, glm::ivec2(0, 1)).x) * d.bumpIntensity;
+            const Vec3<T> p{T(0), T(0), height}, pU{T(1), T(0), heightU}, pV{T(0), T(1), heightV};
+            const Vec3<T> normal = cross3(hlsl::normalize(pU - p), hlsl::normalize(pV - p));
+            normalView = Vec4<T>(mulRowTbn(normal, t, b, n), T(0));
+            mapped = true;
+        }
+    }
+    if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
+
+    const Vec4<T> posView(Vec3<T>(v.posView), T(1));
+    const LightingResult<T> lit = doLighting<T>(d.lights, specularPower, posView, normalView, specularPower > T(1));
+
+    diffuse *= Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
+    Vec4<T> specular(T(0));
+    if (specularPower > T(1)) {  // specular ignored for power <= 1
+        specular = d.specularColor;
+        if constexpr ((F & kPhongSpecularTexture) != 0)
+            if (d.specularTexture.bound()) specular = textureRule(specular, texel(d.specularTexture));
+        specular *= lit.specular;
+    }
+    const Vec4<T> sum = ((ambient + emissive) + diffuse) + specular;
+    color = Vec4<T>(sum.x, sum.y, sum.z, alpha * d.opacity);
+    return true;
+}
+
+constexpr std::array<std::uint32_t, 5> kAxes{kPhongAmbientTexture, kPhongEmissiveTexture, kPhongDiffuseTexture,
+                                             kPhongNormalMap, kPhongAlphaTest};
+static_assert((kAxes[0] | kAxes[1] | kAxes[2] | kAxes[3] | kAxes[4]) == kPhongSpecializedAxes);
+
+constexpr std::uint32_t maskOfIndex(std::size_t index) {
+    std::uint32_t mask = 0;
+    for (std::size_t b = 0; b < kAxes.size(); ++b)
+        if ((index >> b) & 1u) mask |= kAxes[b];
+    return mask;
+}
+constexpr std::size_t indexOfMask(std::uint32_t mask) {
+    std::size_t index = 0;
+    for (std::size_t b = 0; b < kAxes.size(); ++b)
+        if ((mask & kAxes[b]) != 0) index |= std::size_t(1) << b;
+    return index;
+}
+
+template <std::size_t... I>
+constexpr std::array<PhongShadeFn<float>, sizeof...(I)> makeExactTable(std::index_sequence<I...>) {
+    return {&shadePhong<float, maskOfIndex(I)>...};
+}
+constexpr auto kExactTable = makeExactTable(std::make_index_sequence<std::size_t(1) << kAxes.size()>{});
+
+} // namespace
+
+glm::vec4 sampleWithTexelOffset(const Texture2D& texture, const SamplerState& sampler, glm::vec2 uv, glm::vec2 ddxUv,
+                                glm::vec2 ddyUv, glm::ivec2 offsetTexels) {
+    if (offsetTexels == glm::ivec2(0)) return texture.sample(sampler, uv, ddxUv, ddyUv);
+    if (texture.levels() == 0) return glm::vec4(0.0f);  // unbound slot
+    // As Sample (texture/sampling.h steps 1-4): LOD, bias, MinLOD/MaxLOD, magnify on <= 0.
+    const float lod = texture.calculateLevelOfDetailUnclamped(ddxUv, ddyUv);
+    const float clamped = hlsl::max(sampler.minLod, d3dMin(sampler.maxLod, lod + sampler.mipLodBias));
+    const Filter filter = clamped > 0.0f ? sampler.minFilter : sampler.magFilter;
+    const float limited = d3dMin(clamped > 0.0f ? clamped : 0.0f, float(texture.levels() - 1));
+    const float levelFloor = std::floor(limited);
+    const int level = int(levelFloor);
+    const float fraction = limited - levelFloor;
+    const auto sampleOneLevel = [&](int l) {
+        SamplerState single = sampler;
+        single.minFilter = single.magFilter = filter;
+        single.mipFilter = Filter::Point;
+        single.mipLodBias = 0.0f;
+        single.minLod = single.maxLod = float(l);
+        const glm::vec2 shifted =
+            uv + glm::vec2(offsetTexels) / glm::vec2(float(texture.width(l)), float(texture.height(l)));
+        return texture.sampleLevel(single, shifted, float(l));
+    };
+    if (sampler.mipFilter == Filter::Point) return sampleOneLevel(level + (fraction >= 0.5f ? 1 : 0));
+    const glm::vec4 nearer = sampleOneLevel(level);
+    if (fraction == 0.0f) return nearer;
+    return nearer + (sampleOneLevel(level + 1) - nearer) * fraction;
+}
+
+std::string phongFeatureNames(std::uint32_t features) {
+    static constexpr std::array<const char*, 9> kNames{"ambient", "emissive", "diffuse", "specular", "specularPower",
+                                                       "normal", "bump", "opacity", "alphaTest"};
+    std::string names;
+    for (std::size_t b = 0; b < kNames.size(); ++b) {
+        if ((features & (1u << b)) == 0) continue;
+        if (!names.empty()) names += '+';
+        names += kNames[b];
+    }
+    return names.empty() ? std::string("none") : names;
+}
+
+std::uint32_t phongFeatures(const PhongMaterial& m, bool alphaTest) {
+    std::uint32_t f = 0;
+    if (m.ambientTexture.present()) f |= kPhongAmbientTexture;
+    if (m.emissiveTexture.present()) f |= kPhongEmissiveTexture;
+    if (m.diffuseTexture.present()) f |= kPhongDiffuseTexture;
+    if (m.specularTexture.present()) f |= kPhongSpecularTexture;
+    if (m.specularPowerTexture.present()) f |= kPhongSpecularPowerTexture;
+    if (m.normalTexture.present()) f |= kPhongNormalMap;
+    else if (m.bumpTexture.present()) f |= kPhongBumpMap;
+    if (m.opacityTexture.present()) f |= kPhongOpacityTexture;
+    // alpha is forced to 1 (OPAQUE) and no opacity texture: alpha * opacity < threshold is constant.
+    const bool alphaVaries = !m.ignoreDiffuseAlpha || m.opacityTexture.present();
+    if (alphaTest && m.alphaThreshold > 0.0f && (alphaVaries || m.opacity < m.alphaThreshold)) f |= kPhongAlphaTest;
+    return f;
+}
+
+template <>
+PhongVariant selectPhongVariant<float>(std::uint32_t features) {
+    PhongVariant v;
+    v.mayDiscard = (features & kPhongAlphaTest) != 0;
+    if ((features & ~kPhongSpecializedAxes) == 0) {
+        v.exact = kExactTable[indexOfMask(features)];
+        v.name = "exact:";
+        v.name += phongFeatureNames(features);
+    } else {
+        // The generic variant checks every texture slot at run time; the alpha test stays a
+        // compile-time choice (it cannot be detected from a bound slot).
+        v.exact = v.mayDiscard ? &shadePhong<float, kPhongAllFeatures> : &shadePhong<float, kPhongAllFeatures & ~kPhongAlphaTest>;
+        v.name = "exact:generic(";
+        v.name += phongFeatureNames(features);
+        v.name += ')';
+    }
+    return v;
+}
+
+template <>
+PhongVariant selectPhongVariant<double>(std::uint32_t features) {
+    PhongVariant v;
+    v.mayDiscard = (features & kPhongAlphaTest) != 0;
+    v.reference =
+        v.mayDiscard ? &shadePhong<double, kPhongAllFeatures> : &shadePhong<double, kPhongAllFeatures & ~kPhongAlphaTest>;
+    v.name = "reference:generic(";
+    v.name += phongFeatureNames(features);
+    v.name += ')';
+    return v;
+}
+
+PhongTextureSet::PhongTextureSet(const SceneResources& resources, PhongSamplerChoice samplers)
+    : mResources(&resources), mSamplers(samplers) {
+    // The demo's LinearRepeatSampler: MinLinear, MagLinear, MipLinear, wrap (main.cpp).
+    mDemoSampler.minFilter = mDemoSampler.magFilter = mDemoSampler.mipFilter = Filter::Linear;
+    mDemoSampler.addressU = mDemoSampler.addressV = AddressMode::Wrap;
+    const Scene& scene = resources.scene();
+    std::set<int> images;
+    const auto want = [&](const TextureRef& ref) {
+        if (!ref.present() || std::size_t(ref.texture) >= scene.textures.size()) return;
+        if (resources.texture(ref, TexelEncoding::Linear)) return;
+        const int image = scene.textures[std::size_t(ref.texture)].image;
+        if (image >= 0 && std::size_t(image) < scene.images.size() && !scene.images[std::size_t(image)].rgba8.empty())
+            images.insert(image);
+    };
+    for (const Material& m : scene.materials) {
+        const PhongMaterial p = phongFromGltf(m);
+        for (const TextureRef* ref : {&p.ambientTexture, &p.emissiveTexture, &p.diffuseTexture, &p.specularTexture,
+                                      &p.specularPowerTexture, &p.normalTexture, &p.bumpTexture, &p.opacityTexture})
+            want(*ref);
+    }
+    const std::vector<int> list(images.begin(), images.end());
+    std::vector<Texture2D> decoded(list.size());
+    tbb::parallel_for(std::size_t(0), list.size(), [&](std::size_t i) {
+        decoded[i] = Texture2D::fromImage(scene.images[std::size_t(list[i])], TexelEncoding::Linear);
+    });
+    for (std::size_t i = 0; i < list.size(); ++i) mOwnLinear.emplace(list[i], std::move(decoded[i]));
+}
+
+BoundTexture PhongTextureSet::bind(const TextureRef& ref) const {
+    BoundTexture b;
+    b.texture = mResources->texture(ref, TexelEncoding::Linear);
+    if (!b.texture && ref.present()) {
+        const Scene& scene = mResources->scene();
+        if (std::size_t(ref.texture) < scene.textures.size()) {
+            const auto it = mOwnLinear.find(scene.textures[std::size_t(ref.texture)].image);
+            if (it != mOwnLinear.end()) b.texture = &it->second;
+        }
+    }
+    b.sampler = mSamplers == PhongSamplerChoice::Demo ? &mDemoSampler : &mResources->sampler(ref);
+    b.texCoord = ref.texCoord;
+    return b;
+}
+
+template <class T>
+PhongShaderData<T> makePhongShaderData(const PhongMaterial& m, const PhongTextureSet& textures,
+                                       std::span<const ViewLight<T>> lights) {
+    PhongShaderData<T> d;
+    d.globalAmbient = Vec4<T>(m.globalAmbient);
+    d.ambientColor = Vec4<T>(m.ambientColor);
+    d.emissiveColor = Vec4<T>(m.emissiveColor);
+    d.diffuseColor = Vec4<T>(m.diffuseColor);
+    d.specularColor = Vec4<T>(m.specularColor);
+    d.opacity = T(m.opacity);
+    d.specularPower = T(m.specularPower);
+    d.bumpIntensity = T(m.bumpIntensity);
+    d.specularScale = T(m.specularScale);
+    d.alphaThreshold = T(m.alphaThreshold);
+    d.ignoreDiffuseAlpha = m.ignoreDiffuseAlpha;
+    d.ambientTexture = textures.bind(m.ambientTexture);
+    d.emissiveTexture = textures.bind(m.emissiveTexture);
+    d.diffuseTexture = textures.bind(m.diffuseTexture);
+    d.specularTexture = textures.bind(m.specularTexture);
+    d.specularPowerTexture = textures.bind(m.specularPowerTexture);
+    d.normalTexture = textures.bind(m.normalTexture);
+    d.bumpTexture = textures.bind(m.bumpTexture);
+    d.opacityTexture = textures.bind(m.opacityTexture);
+    d.lights = lights;
+    return d;
+}
+
+template <class T>
+std::vector<ViewLight<T>> viewLights(std::span<const Light> lights, const glm::mat4& viewFromWorld) {
+    using Mat4 = glm::mat<4, 4, T, glm::defaultp>;
+    const Mat4 view(viewFromWorld);
+    std::vector<ViewLight<T>> out;
+    out.reserve(lights.size());
+    for (const Light& l : lights) {
+        ViewLight<T> v;
+        v.positionView = view * Vec4<T>(Vec3<T>(l.positionWorld), T(1));
+        // glm::normalize as the demo's UpdateLights calls it: v * inversesqrt(dot(v, v)).
+        v.directionView = glm::normalize(view * Vec4<T>(Vec3<T>(l.directionWorld), T(0)));
+        v.color = Vec4<T>(Vec3<T>(l.color), T(1));
+        v.spotlightAngleDeg = T(l.spotHalfAngleDeg);
+        v.range = T(l.range);
+        v.intensity = T(l.intensity);
+        v.enabled = l.enabled;
+        v.type = l.type;
+        out.push_back(v);
+    }
+    return out;
+}
+
+template PhongShaderData<float> makePhongShaderData<float>(const PhongMaterial&, const PhongTextureSet&,
+                                                           std::span<const ViewLight<float>>);
+template PhongShaderData<double> makePhongShaderData<double>(const PhongMaterial&, const PhongTextureSet&,
+                                                             std::span<const ViewLight<double>>);
+template std::vector<ViewLight<float>> viewLights<float>(std::span<const Light>, const glm::mat4&);
+template std::vector<ViewLight<double>> viewLights<double>(std::span<const Light>, const glm::mat4&);
+
+} // namespace tessera

@@ -1,0 +1,162 @@
+// The `forward` technique (seed 000 §4 "Forward technique"; the demo's g_ForwardTechnique in
+// main.cpp): clear -> opaque pass -> transparent pass, one draw per (instance, primitive) in scene
+// order, every enabled light per pixel through the specialized Phong pixel shader.
+#include <tessera/techniques/forward.h>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <tessera/io/input_error.h>
+#include <tessera/shading/phong_material_shader.h>
+#include <tessera/techniques/technique_options.h>
+
+namespace tessera {
+namespace {
+
+// The demo's clear: cornflower blue, depth 1, stencil 0 (main.cpp g_ClearColor).
+constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
+
+// The demo's transparent blend (main.cpp alphaBlending: BlendMode(true, false, SrcAlpha,
+// OneMinusSrcAlpha) with the BlendMode defaults for alpha: One, Zero, Add).
+constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add,
+                                                Blend::One,  Blend::Zero,     BlendOp::Add,        WriteAll};
+
+struct ForwardSetup {
+    std::uint32_t width = 0, height = 0;
+    glm::mat4 viewFromWorld{1.0f};
+    glm::mat4 clipFromView{1.0f};
+    bool alphaTest = false;
+    Precision precision = Precision::Exact;
+    std::unique_ptr<PhongTextureSet> textures;
+    std::vector<ViewLight<float>> lightsExact;
+    std::vector<ViewLight<double>> lightsReference;
+};
+
+template <class T, int kTargets>
+void drawItem(Device& device, const DrawState& state, const RenderTargets& targets, const PrimitiveBuffer& prim,
+              const PhongVS& vs, const PhongMaterial& material, const ForwardSetup& setup, DrawStats* stats,
+              std::map<std::string, std::uint64_t>* variantCounts) {
+    std::span<const ViewLight<T>> lights;
+    if constexpr (std::is_same_v<T, float>) lights = setup.lightsExact;
+    else lights = setup.lightsReference;
+    const PhongShaderData<T> data = makePhongShaderData<T>(material, *setup.textures, lights);
+    const PhongVariant variant = selectPhongVariant<T>(phongFeatures(material, setup.alphaTest));
+    PhongShadeFn<T> shade;
+    if constexpr (std::is_same_v<T, float>) shade = variant.exact;
+    else shade = variant.reference;
+    if (variantCounts) ++(*variantCounts)[variant.name];
+    const std::span<const SceneVertex> vertices(prim.vertices);
+    DrawStats s = variant.mayDiscard
+                      ? device.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, true, kTargets>{shade, &data})
+                      : device.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, false, kTargets>{shade, &data});
+    if (stats) *stats += s;
+}
+
+} // namespace
+
+glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention) {
+    const float a = camera.aspect > 0.0f ? camera.aspect : aspect;
+    const float n = camera.nearZ, f = camera.farZ;
+    if (camera.projection == ProjectionKind::Orthographic)
+        return convention == ProjectionConvention::DemoGl
+                   ? glm::orthoRH_NO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, n, f)
+                   : glm::orthoRH_ZO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, n, f);
+    const float tanHalfFovy = detTan(hlsl::radians(camera.fovYDeg) / 2.0f);
+    glm::mat4 p(0.0f);
+    p[0][0] = 1.0f / (a * tanHalfFovy);
+    p[1][1] = 1.0f / tanHalfFovy;
+    p[2][3] = -1.0f;
+    const bool infinite = !std::isfinite(f);
+    if (convention == ProjectionConvention::DemoGl) {
+        // glm 0.9.6.3 perspective: -(f + n) / (f - n), -(2 f n) / (f - n); limits -1, -2n.
+        p[2][2] = infinite ? -1.0f : -(f + n) / (f - n);
+        p[3][2] = infinite ? -2.0f * n : -(2.0f * f * n) / (f - n);
+    } else {
+        // perspectiveRH_ZO: f / (n - f), -(f n) / (f - n); limits -1, -n.
+        p[2][2] = infinite ? -1.0f : f / (n - f);
+        p[3][2] = infinite ? -n : -(f * n) / (f - n);
+    }
+    return p;
+}
+
+Frame buildForward(const TechniqueContext& ctx) {
+    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
+    if (ctx.precision == Precision::Fast)
+        throw inputError(file, "/precision", "precision 'fast' is not implemented for forward yet (use exact or reference)");
+    const std::string projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file);
+    const std::string sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file);
+
+    auto setup = std::make_shared<ForwardSetup>();
+    setup->width = ctx.width;
+    setup->height = ctx.height;
+    setup->alphaTest = optionBool(ctx.options, "alphaTest", false, file);
+    setup->precision = ctx.precision;
+    setup->viewFromWorld = ctx.camera.viewFromWorld();
+    setup->clipFromView = projection3dgep(ctx.camera, float(ctx.width) / float(ctx.height),
+                                          projection == "d3d" ? ProjectionConvention::D3d : ProjectionConvention::DemoGl);
+    const SceneResources& res = *ctx.resources;
+    setup->textures = std::make_unique<PhongTextureSet>(res, sampler == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo);
+    // Lights in the scene's order, to view space once per frame (the demo's UpdateLights).
+    if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
+    else setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
+
+    const bool reference = ctx.precision == Precision::Reference;
+    Frame frame;
+    std::vector<std::string> colorBuffers{std::string(kBackBufferName)};
+    if (reference) colorBuffers.emplace_back("backbuffer.reference");
+    std::vector<std::string> allBuffers = colorBuffers;
+    allBuffers.emplace_back("depth");
+
+    frame.add({"clear", {}, allBuffers, [setup, reference](BufferRegistry& reg) {
+                   const std::uint32_t w = setup->width, h = setup->height;
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   if (reference)
+                       reg.create("backbuffer.reference", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+               }});
+
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const auto drawPass = [setup, device, stats, variantCounts, &res, reference](bool transparentPass) {
+        return [setup, device, stats, variantCounts, &res, reference, transparentPass](BufferRegistry& reg) {
+            RenderTargets rt;
+            rt.colors[0] = &reg.get(kBackBufferName);
+            if (reference) rt.colors[1] = &reg.get("backbuffer.reference");
+            rt.depthStencil = &reg.get("depth");
+            for (const DrawItem& item : res.drawItems()) {
+                const PhongMaterial material = phongFromGltf(res.material(item.material));
+                if (material.isTransparent() != transparentPass) continue;  // the demo's Opaque/TransparentPass
+                DrawState st;
+                st.viewport = Viewport{0.0f, 0.0f, float(setup->width), float(setup->height), 0.0f, 1.0f};
+                st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+                if (transparentPass) {
+                    // g_pTransparentPipeline: alpha blending, depth test LESS with writes off, cull none.
+                    st.rasterizer.cullMode = CullMode::None;
+                    st.depthStencil.depthWriteEnable = false;
+                    st.blend.renderTarget[0] = kDemoAlphaBlend;
+                } else {
+                    // g_pOpaquePipeline: D3D11 defaults (depth LESS, writes on, cull back);
+                    // glTF doubleSided materials are drawn with cull none.
+                    st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+                }
+                const glm::mat4 viewFromObject = setup->viewFromWorld * item.worldFromObject;
+                const PhongVS vs{setup->clipFromView * viewFromObject, viewFromObject};
+                const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+                if (reference)
+                    drawItem<double, 2>(*device, st, rt, prim, vs, material, *setup, stats, variantCounts);
+                else
+                    drawItem<float, 1>(*device, st, rt, prim, vs, material, *setup, stats, variantCounts);
+            }
+        };
+    };
+    std::vector<std::string> drawReads = allBuffers;
+    frame.add({"opaque", drawReads, allBuffers, drawPass(false)});
+    frame.add({"transparent", drawReads, colorBuffers, drawPass(true)});
+    return frame;
+}
+
+} // namespace tessera
