@@ -103,7 +103,15 @@ int main(int argc, char** argv) {
     Camera camera;
     Scene scene = loadScene(desc, true, &camera);
     const std::vector<Light> allLights = scene.lights;
-    const SceneResources resources(scene);
+    // The techniques measured together must agree on how textures are decoded.
+    const TexturePolicy policy = findTechnique(techniquesToRun.at(0))->textures;
+    for (const std::string& t : techniquesToRun)
+        if (findTechnique(t)->textures != policy) {
+            std::fprintf(stderr, "--techniques: '%s' decodes textures differently from '%s'; run them separately\n", t.c_str(),
+                         techniquesToRun[0].c_str());
+            return 2;
+        }
+    const SceneResources resources(scene, {}, policy);
 
     std::printf("| technique | lights | threads | passes (median ms) | frame ms |\n|---|---|---|---|---|\n");
     for (const std::string& technique : techniquesToRun)

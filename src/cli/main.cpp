@@ -268,9 +268,9 @@ int render(const std::vector<std::string_view>& args) {
     const tessera::Scene scene = tessera::loadScene(desc, true, &camera);
     const double loadMs = msSince(t0);
     const auto t1 = Clock::now();
-    const tessera::SceneResources resources(scene, [&](std::size_t done, std::size_t total) {
-        progress.update("textures and mips", done, total);
-    });
+    const tessera::SceneResources resources(
+        scene, [&](std::size_t done, std::size_t total) { progress.update("textures and mips", done, total); },
+        tessera::findTechnique(desc.technique)->textures);
     const double texturesMs = msSince(t1);
 
     tessera::Device device(o.device);

@@ -12,7 +12,8 @@
 
 namespace tessera {
 
-SceneResources::SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress)
+SceneResources::SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress,
+                               TexturePolicy policy)
     : mScene(&scene) {
     // Vertex buffers: one per mesh primitive; instances share them.
     std::vector<std::uint32_t> firstPrimitiveOfMesh(scene.meshes.size(), 0);
@@ -58,9 +59,10 @@ SceneResources::SceneResources(const Scene& scene, const std::function<void(std:
         if (image >= 0 && std::size_t(image) < scene.images.size() && !scene.images[std::size_t(image)].rgba8.empty())
             wanted.insert({image, enc});
     };
+    const TexelEncoding colorEncoding = policy == TexturePolicy::Gltf ? TexelEncoding::Srgb : TexelEncoding::Linear;
     for (const Material& m : scene.materials) {
-        want(m.baseColorTexture, TexelEncoding::Srgb);
-        want(m.emissiveTexture, TexelEncoding::Srgb);
+        want(m.baseColorTexture, colorEncoding);
+        want(m.emissiveTexture, colorEncoding);
         want(m.metallicRoughnessTexture, TexelEncoding::Linear);
         want(m.normalTexture, TexelEncoding::Linear);
         want(m.occlusionTexture, TexelEncoding::Linear);

@@ -18,7 +18,7 @@ const std::array<TechniqueInfo, 10> kTechniques{{
     {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
      kNoOptions},
     {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (seed 000)", &buildForward,
-     kForwardOptionKeys},
+     kForwardOptionKeys, TexturePolicy::AllLinear},
     {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward", "3dgep (seed 000)", nullptr,
      kNoOptions},
     {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)", nullptr, kNoOptions},

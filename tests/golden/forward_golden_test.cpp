@@ -22,7 +22,7 @@ Surface renderForward(const std::string& scene, std::uint32_t width, std::uint32
     desc.height = height;
     Camera camera;
     const Scene loaded = loadScene(desc, true, &camera);
-    const SceneResources resources(loaded);
+    const SceneResources resources(loaded, {}, findTechnique("forward")->textures);
     Device device(DeviceConfig{64, threads});
     DrawStats stats;
     TechniqueContext ctx;

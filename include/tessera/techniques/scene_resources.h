@@ -39,11 +39,18 @@ struct DrawItem {
     int material = -1;
 };
 
+// Which encoding each material slot's texture is decoded with.
+enum class TexturePolicy {
+    Gltf,       // glTF 2.0 §3.9.2: base colour and emissive sRGB (decoded to linear), the rest linear
+    AllLinear   // every slot as UNORM, no sRGB decode: the 3dgep demo shades gamma-space values
+};
+
 class SceneResources {
 public:
     // `progress(done, total)` is called after each texture is decoded (from one thread at a
     // time, in no fixed order); may be empty.
-    explicit SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress = {});
+    explicit SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress = {},
+                            TexturePolicy policy = TexturePolicy::Gltf);
 
     const Scene& scene() const { return *mScene; }
     const std::vector<PrimitiveBuffer>& primitives() const { return mPrimitives; }

@@ -39,6 +39,8 @@ struct TechniqueInfo {
     Frame (*build)(const TechniqueContext&) = nullptr;
     // The option keys the technique accepts in "options" (others are rejected).
     std::span<const std::string_view> optionKeys;
+    // How SceneResources should decode colour textures for this technique.
+    TexturePolicy textures = TexturePolicy::Gltf;
 };
 
 std::span<const TechniqueInfo> techniques();
