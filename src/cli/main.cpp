@@ -50,7 +50,7 @@ buffer: PNG stores the 8-bit bytes as rendered, EXR the decoded values (half or 
 
 options:
   --technique ID    technique to use instead of the scene file's (see `tessera list`)
-  --out FILE        output image, .png or .exr (default: tessera.png)
+  --out FILE        output image, .png or .exr (default: tessera.png); alpha is written opaque, as presented
   --exr TYPE        EXR pixel type: half or float (default: float)
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
@@ -201,7 +201,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
 }
 
 void writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
-    tessera::writeSurface(*registry.find(tessera::kBackBufferName), o.out, o.exrType);
+    // The presented image: alpha ignored, as a swap chain shows it (--dump keeps stored alpha).
+    tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType);
     if (o.dumpDir.empty()) return;
     fs::create_directories(o.dumpDir);
     for (const std::string& name : registry.names()) {

@@ -114,6 +114,24 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
     }
 }
 
+Surface withOpaqueAlpha(const Surface& s) {
+    Surface out = s;
+    const FormatInfo& info = formatInfo(s.format());
+    if (info.channels != 4 || info.hasDepth || info.kind == FormatKind::Uint) return out;
+    for (std::uint32_t y = 0; y < s.height(); ++y)
+        for (std::uint32_t x = 0; x < s.width(); ++x)
+            for (std::uint32_t i = 0; i < s.sampleCount(); ++i) {
+                if (s.format() == Format::R8G8B8A8_UNORM || s.format() == Format::R8G8B8A8_UNORM_SRGB) {
+                    out.texel(x, y, i)[3] = std::byte{255};
+                } else {
+                    glm::vec4 v = s.load(x, y, i);
+                    v.w = 1.0f;
+                    out.store(x, y, i, v);
+                }
+            }
+    return out;
+}
+
 void writeStencil(const Surface& s, const std::filesystem::path& path, std::uint32_t sample) {
     checkSample(s, sample, path);
     if (!formatInfo(s.format()).hasStencil)

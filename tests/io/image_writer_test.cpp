@@ -151,3 +151,18 @@ TEST_CASE("lossy or impossible pairings are refused and failed writes leave noth
     CHECK(losslessExtension(Format::R32G32_UINT) == ".tif");
     CHECK(losslessExtension(Format::D24_UNORM_S8_UINT) == ".exr");
 }
+
+TEST_CASE("withOpaqueAlpha sets alpha to 1 as a swap chain presents it and keeps colour bits") {
+    Surface rgba(SurfaceDesc{2, 1, Format::R8G8B8A8_UNORM, 1});
+    for (int c = 0; c < 4; ++c) rgba.texel(0, 0)[c] = std::byte(10 + c);
+    const Surface opaque = withOpaqueAlpha(rgba);
+    CHECK(opaque.texel(0, 0)[0] == std::byte{10});
+    CHECK(opaque.texel(0, 0)[2] == std::byte{12});
+    CHECK(opaque.texel(0, 0)[3] == std::byte{255});
+    CHECK(opaque.texel(1, 0)[3] == std::byte{255});
+    Surface half(SurfaceDesc{1, 1, Format::R16G16B16A16_FLOAT, 1});
+    half.store(0, 0, 0, glm::vec4(0.25f, -2.0f, 65504.0f, 0.0f));
+    CHECK(withOpaqueAlpha(half).load(0, 0) == glm::vec4(0.25f, -2.0f, 65504.0f, 1.0f));
+    const Surface r32 = rampSurface(Format::R32_FLOAT);
+    CHECK(std::equal(r32.bytes().begin(), r32.bytes().end(), withOpaqueAlpha(r32).bytes().begin()));
+}

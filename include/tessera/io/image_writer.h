@@ -27,6 +27,12 @@ void writeSurface(const Surface& surface, const std::filesystem::path& path,
                   ExrPixelType exrType = ExrPixelType::Float, std::uint32_t sample = 0);
 // The stencil plane of a depth-stencil surface as an 8-bit single-channel image ("S").
 void writeStencil(const Surface& surface, const std::filesystem::path& path, std::uint32_t sample = 0);
+// A copy of a single-sample colour surface with alpha set to 1 (RGBA8: byte 255), as a swap
+// chain presents it (DXGI ignores back-buffer alpha). `tessera render --out` writes this, so
+// image viewers do not show a technique's leftover alpha as transparency; --dump keeps the
+// stored alpha. Surfaces without an alpha channel are returned unchanged.
+Surface withOpaqueAlpha(const Surface& surface);
+
 // The file extension that `writeSurface` stores `format` in without loss: ".png" for RGBA8
 // (UNORM and UNORM_SRGB), ".tif" for UINT, ".exr" otherwise.
 std::string losslessExtension(Format format);
