@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "tessera/buffers/conversion.h"
+#include "tessera/math/det_math.h"  // detLog2: LOD without libm
 
 namespace tessera {
 namespace {
@@ -38,43 +39,6 @@ inline double d3dMax(double a, double b) {
     return b > a ? b : a;
 }
 
-// log2(x) in double with only +, -, *, / (no libm, so the same bits everywhere):
-// x = m * 2^e with m in [sqrt(1/2), sqrt(2)); ln(m) = 2 atanh(s) = 2 (s + s^3/3 + s^5/5 + ...)
-// with s = (m - 1) / (m + 1), |s| <= 0.1716; 13 terms leave a truncation error below
-// s^27 / 27 < 1e-21. m = 1 gives s = 0, so powers of two are exact.
-constexpr std::array<double, 13> kAtanhCoefficients = {
-    1.0 / 1, 1.0 / 3, 1.0 / 5, 1.0 / 7, 1.0 / 9, 1.0 / 11, 1.0 / 13,
-    1.0 / 15, 1.0 / 17, 1.0 / 19, 1.0 / 21, 1.0 / 23, 1.0 / 25};
-constexpr double kSqrt2 = 1.4142135623730950488;
-constexpr double kLog2E = 1.4426950408889634074;  // 1 / ln(2)
-constexpr double kTwoTo64 = 18446744073709551616.0;
-
-double log2Deterministic(double x) {
-    if (std::isnan(x) || x < 0.0) return std::numeric_limits<double>::quiet_NaN();
-    if (x == 0.0) return -std::numeric_limits<double>::infinity();
-    if (std::isinf(x)) return std::numeric_limits<double>::infinity();
-    std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
-    int exponent = int((bits >> 52) & 0x7FFu);
-    int extra = 0;
-    if (exponent == 0) {  // subnormal: scale by 2^64 (exact) into the normal range
-        bits = std::bit_cast<std::uint64_t>(x * kTwoTo64);
-        exponent = int((bits >> 52) & 0x7FFu);
-        extra = -64;
-    }
-    exponent = exponent - 1023 + extra;
-    double m = std::bit_cast<double>((bits & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull);  // [1, 2)
-    if (m > kSqrt2) {
-        m *= 0.5;
-        ++exponent;
-    }
-    const double s = (m - 1.0) / (m + 1.0);
-    const double s2 = s * s;
-    double series = kAtanhCoefficients.back();
-    for (std::size_t k = kAtanhCoefficients.size() - 1; k-- > 0;) series = series * s2 + kAtanhCoefficients[k];
-    const double lnM = 2.0 * s * series;
-    return double(exponent) + lnM * kLog2E;
-}
-
 // §7.18.11 isotropic LOD (the formula choice is documented in sampling.h): derivatives in
 // texels of level 0; LOD = log2(max(|dX|, |dY|)) = 0.5 * log2(max(|dX|^2, |dY|^2)). Every
 // float * size product is exact in double.
@@ -84,7 +48,7 @@ float lodFromDerivatives(const Texture2D& texture, glm::vec2 ddxUv, glm::vec2 dd
     const double dyU = double(ddyUv.x) * width, dyV = double(ddyUv.y) * height;
     const double lengthSqX = dxU * dxU + dxV * dxV;
     const double lengthSqY = dyU * dyU + dyV * dyV;
-    return float(0.5 * log2Deterministic(d3dMax(lengthSqX, lengthSqY)));
+    return float(0.5 * detLog2(d3dMax(lengthSqX, lengthSqY)));
 }
 
 // §7.18.11: clampedLOD = max(MinLOD, min(MaxLOD, biasedLOD)) with D3D min/max.
