@@ -24,20 +24,9 @@ constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add,
                                                 Blend::One,  Blend::Zero,     BlendOp::Add,        WriteAll};
 
-struct ForwardSetup {
-    std::uint32_t width = 0, height = 0;
-    glm::mat4 viewFromWorld{1.0f};
-    glm::mat4 clipFromView{1.0f};
-    bool alphaTest = false;
-    Precision precision = Precision::Exact;
-    std::unique_ptr<PhongTextureSet> textures;
-    std::vector<ViewLight<float>> lightsExact;
-    std::vector<ViewLight<double>> lightsReference;
-};
-
 template <class T, int kTargets>
 void drawItem(Device& device, const DrawState& state, const RenderTargets& targets, const PrimitiveBuffer& prim,
-              const PhongVS& vs, const PhongMaterial& material, const ForwardSetup& setup, DrawStats* stats,
+              const PhongVS& vs, const PhongMaterial& material, const ForwardPassSetup& setup, DrawStats* stats,
               std::map<std::string, std::uint64_t>* variantCounts) {
     std::span<const ViewLight<T>> lights;
     if constexpr (std::is_same_v<T, float>) lights = setup.lightsExact;
@@ -82,26 +71,62 @@ glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConventi
     return p;
 }
 
+std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& ctx, ProjectionConvention projection,
+                                                       PhongSamplerChoice sampler, bool alphaTest) {
+    auto setup = std::make_shared<ForwardPassSetup>();
+    setup->width = ctx.width;
+    setup->height = ctx.height;
+    setup->alphaTest = alphaTest;
+    setup->precision = ctx.precision;
+    setup->viewFromWorld = ctx.camera.viewFromWorld();
+    setup->clipFromView = projection3dgep(ctx.camera, float(ctx.width) / float(ctx.height), projection);
+    const SceneResources& res = *ctx.resources;
+    setup->textures = std::make_unique<PhongTextureSet>(res, sampler);
+    // Lights in the scene's order, to view space once per frame (the demo's UpdateLights).
+    if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
+    else setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
+    return setup;
+}
+
+void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, const RenderTargets& rt,
+                     bool transparentPass, DrawStats* stats, std::map<std::string, std::uint64_t>* variantCounts) {
+    const bool reference = setup.precision == Precision::Reference;
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent() != transparentPass) continue;  // the demo's Opaque/TransparentPass
+        DrawState st;
+        st.viewport = Viewport{0.0f, 0.0f, float(setup.width), float(setup.height), 0.0f, 1.0f};
+        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        if (transparentPass) {
+            // g_pTransparentPipeline: alpha blending, depth test LESS with writes off, cull none.
+            st.rasterizer.cullMode = CullMode::None;
+            st.depthStencil.depthWriteEnable = false;
+            st.blend.renderTarget[0] = kDemoAlphaBlend;
+        } else {
+            // g_pOpaquePipeline: D3D11 defaults (depth LESS, writes on, cull back);
+            // glTF doubleSided materials are drawn with cull none.
+            st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        }
+        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
+        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        if (reference)
+            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts);
+        else
+            drawItem<float, 1>(device, st, rt, prim, vs, material, setup, stats, variantCounts);
+    }
+}
+
 Frame buildForward(const TechniqueContext& ctx) {
     const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
     if (ctx.precision == Precision::Fast)
         throw inputError(file, "/precision", "precision 'fast' is not implemented for forward yet (use exact or reference)");
     const std::string projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file);
     const std::string sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file);
-
-    auto setup = std::make_shared<ForwardSetup>();
-    setup->width = ctx.width;
-    setup->height = ctx.height;
-    setup->alphaTest = optionBool(ctx.options, "alphaTest", false, file);
-    setup->precision = ctx.precision;
-    setup->viewFromWorld = ctx.camera.viewFromWorld();
-    setup->clipFromView = projection3dgep(ctx.camera, float(ctx.width) / float(ctx.height),
-                                          projection == "d3d" ? ProjectionConvention::D3d : ProjectionConvention::DemoGl);
-    const SceneResources& res = *ctx.resources;
-    setup->textures = std::make_unique<PhongTextureSet>(res, sampler == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo);
-    // Lights in the scene's order, to view space once per frame (the demo's UpdateLights).
-    if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
-    else setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
+    const bool alphaTest = optionBool(ctx.options, "alphaTest", false, file);
+    std::shared_ptr<ForwardPassSetup> setup =
+        makeForwardPassSetup(ctx, projection == "d3d" ? ProjectionConvention::D3d : ProjectionConvention::DemoGl,
+                             sampler == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo, alphaTest);
 
     const bool reference = ctx.precision == Precision::Reference;
     Frame frame;
@@ -121,36 +146,14 @@ Frame buildForward(const TechniqueContext& ctx) {
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
-    const auto drawPass = [setup, device, stats, variantCounts, &res, reference](bool transparentPass) {
-        return [setup, device, stats, variantCounts, &res, reference, transparentPass](BufferRegistry& reg) {
+    const SceneResources* res = ctx.resources;
+    const auto drawPass = [setup, device, stats, variantCounts, res, reference](bool transparentPass) {
+        return [setup, device, stats, variantCounts, res, reference, transparentPass](BufferRegistry& reg) {
             RenderTargets rt;
             rt.colors[0] = &reg.get(kBackBufferName);
             if (reference) rt.colors[1] = &reg.get("backbuffer.reference");
             rt.depthStencil = &reg.get("depth");
-            for (const DrawItem& item : res.drawItems()) {
-                const PhongMaterial material = phongFromGltf(res.material(item.material));
-                if (material.isTransparent() != transparentPass) continue;  // the demo's Opaque/TransparentPass
-                DrawState st;
-                st.viewport = Viewport{0.0f, 0.0f, float(setup->width), float(setup->height), 0.0f, 1.0f};
-                st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-                if (transparentPass) {
-                    // g_pTransparentPipeline: alpha blending, depth test LESS with writes off, cull none.
-                    st.rasterizer.cullMode = CullMode::None;
-                    st.depthStencil.depthWriteEnable = false;
-                    st.blend.renderTarget[0] = kDemoAlphaBlend;
-                } else {
-                    // g_pOpaquePipeline: D3D11 defaults (depth LESS, writes on, cull back);
-                    // glTF doubleSided materials are drawn with cull none.
-                    st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-                }
-                const glm::mat4 viewFromObject = setup->viewFromWorld * item.worldFromObject;
-                const PhongVS vs{setup->clipFromView * viewFromObject, viewFromObject};
-                const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-                if (reference)
-                    drawItem<double, 2>(*device, st, rt, prim, vs, material, *setup, stats, variantCounts);
-                else
-                    drawItem<float, 1>(*device, st, rt, prim, vs, material, *setup, stats, variantCounts);
-            }
+            drawForwardPass(*setup, *device, *res, rt, transparentPass, stats, variantCounts);
         };
     };
     std::vector<std::string> drawReads = allBuffers;

@@ -6,6 +6,7 @@
 #include <array>
 
 #include <tessera/io/input_error.h>
+#include <tessera/techniques/deferred.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/preview.h>
 
@@ -19,9 +20,10 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      kNoOptions},
     {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (seed 000)", &buildForward,
      kForwardOptionKeys, TexturePolicy::AllLinear},
-    {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward", "3dgep (seed 000)", nullptr,
-     kNoOptions},
-    {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)", nullptr, kNoOptions},
+    {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward", "3dgep (seed 000)",
+     &buildDeferred, kDeferredOptionKeys, TexturePolicy::AllLinear},
+    {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)",
+     &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear},
     {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid", "3dgep (seed 000)", nullptr,
      kNoOptions},
     {"forward-plus-amd", "AMD Forward+ with 2.5D culling", "GPU Pro 4 (seed 002)", nullptr, kNoOptions},

@@ -157,7 +157,7 @@ TEST_CASE("cli: bad scene input exits 2, names the file and key, and writes noth
     const Run missing = run("render no-such-scene --out " + (dir / "x.png").string());
     CHECK(missing.exitCode == 2);
     CHECK(missing.output.find("no-such-scene: no such file") != std::string::npos);
-    const Run planned = run("render default --technique deferred --out " + (dir / "x.png").string());
+    const Run planned = run("render default --technique deferred-cookbook --out " + (dir / "x.png").string());
     CHECK(planned.exitCode == 2);
     CHECK(planned.output.find("not implemented yet") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir / "x.png"));

@@ -5,10 +5,15 @@
 #pragma once
 
 #include <array>
+#include <map>
+#include <memory>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/glm.hpp>
 
+#include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/technique.h>
 
 namespace tessera {
@@ -40,5 +45,32 @@ enum class ProjectionConvention { DemoGl, D3d };
 // DemoGl, perspectiveRH_ZO for D3d). Infinite far: the limits f -> inf. Orthographic cameras:
 // orthoRH_NO / orthoRH_ZO.
 glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention);
+
+// What forward's passes share over a frame, also used by deferred's transparent pass ("identical
+// to forward", seed 000 §5): size, camera matrices, the Phong texture set and the view-space
+// lights (float for exact, double for reference).
+struct ForwardPassSetup {
+    std::uint32_t width = 0, height = 0;   // px
+    glm::mat4 viewFromWorld{1.0f};
+    glm::mat4 clipFromView{1.0f};
+    bool alphaTest = false;
+    Precision precision = Precision::Exact;
+    std::unique_ptr<PhongTextureSet> textures;
+    std::vector<ViewLight<float>> lightsExact;
+    std::vector<ViewLight<double>> lightsReference;
+};
+
+// The setup of `context` (its camera, size, precision and scene lights in scene order).
+std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& context, ProjectionConvention projection,
+                                                       PhongSamplerChoice sampler, bool alphaTest);
+
+// The demo's OpaquePass (g_pOpaquePipeline: depth LESS with writes, cull back; glTF doubleSided
+// culls none) or TransparentPass (g_pTransparentPipeline: SrcAlpha / InvSrcAlpha, depth LESS
+// without writes, cull none) over the scene's draw items in order, through the Phong PS.
+// `targets`: colors[0] the back buffer (and colors[1] the float copy at precision reference),
+// the depth-stencil buffer.
+void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneResources& resources,
+                     const RenderTargets& targets, bool transparentPass, DrawStats* stats,
+                     std::map<std::string, std::uint64_t>* variantCounts);
 
 } // namespace tessera

@@ -1,0 +1,77 @@
+// The `deferred` and `deferred-killzone` techniques of seed 000 (3dgep §5; the demo's
+// g_DeferredTechnique, DeferredRendering.hlsl, DeferredLightingPass.cpp): G-buffer, depth copy,
+// per-light stencil light volumes (3dgep unmark + shade, or Killzone 2 mark + count + shade),
+// directional lights as a far-plane quad, then forward's transparent pass.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include <tessera/techniques/technique.h>
+
+namespace tessera {
+
+// Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY).
+// Defaults are faithful to the demo; every other value is a named correction (ERRATA.md).
+//   "projection": "demo-gl" | "d3d"      as forward (forward.h): the demo's GL-form matrix.
+//   "reconstruct": "corner" | "centre"   where ScreenToView evaluates P: the integer pixel
+//       int2(SV_Position.xy) (faithful, seed 000 §9.15) or its centre (x + 0.5, y + 0.5).
+//   "lightVolumes": "inscribed" | "circumscribed"   the demo's polygons inside the light's
+//       sphere / cone, or scaled to contain them (light_volumes.h).
+//   "volumeRotation": "glm096" | "robust"   light_volumes.h VolumeRotation.
+//   "gbuffer": "demo" | "float"   demo: RT0 = back buffer, RT1 diffuse, RT2 specular with
+//       a = log2(p)/10.5, all R8G8B8A8_UNORM, RT3 R32G32B32A32_FLOAT normal, D24_UNORM_S8_UINT.
+//       float: RT0-RT2 R32G32B32A32_FLOAT with p stored unpacked in RT2.a, RT0 the separate
+//       "accumulation" buffer converted to the back buffer after the lights,
+//       D32_FLOAT_S8X24_UINT depth.
+//   "position": "reconstruct" | "gbuffer"   P from depth by ScreenToView (faithful), or the
+//       interpolated positionVS written by the G-buffer PS to "gbuffer.position" (corrected:
+//       the value forward shades with).
+//   "accumulate": "color" | "lighting"   color (faithful): each light blends
+//       diffuse * lit.Diffuse + specular * lit.Specular into RT0. lighting (corrected): each
+//       light blends lit.Diffuse and lit.Specular into the float targets "light.diffuse" and
+//       "light.specular" (cleared to 0), and a final pass composes forward's expression
+//       ((ambient + emissive) + diffuse * (D.rgb, 1)) + (p > 1 ? specular * S : 0) with RT0
+//       holding ((ambient + emissive).rgb, alpha * Opacity). Float addition is commutative but
+//       neither associative nor distributive, so only this order reproduces forward's bits.
+//   "sampler": "demo" | "gltf"   as forward.
+//   "alphaTest": false | true    the transparent (forward) pass only, as forward; the G-buffer
+//       PS always discards alpha * Opacity < AlphaThreshold (the demo's PS_Geometry).
+//   deferred-killzone adds "threshold": an integer >= 0 (default 0); a light's shade draw runs
+//       only when its count query passed more than `threshold` samples.
+// With projection d3d, gbuffer float, position gbuffer, accumulate lighting and circumscribed
+// volumes, the image equals forward's (projection d3d) bit for bit on opaque scenes whose light
+// volumes do not cross the near plane (tests/unit/deferred_test.cpp).
+inline constexpr std::array<std::string_view, 9> kDeferredOptionKeys{
+    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position", "accumulate", "sampler", "alphaTest"};
+inline constexpr std::array<std::string_view, 10> kKillzoneOptionKeys{
+    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer",
+    "position",   "accumulate",  "sampler",      "alphaTest",      "threshold"};
+
+// Buffers (--dump writes them all):
+//   "backbuffer"       R8G8B8A8_UNORM: the image (the demo's RT0 with gbuffer demo)
+//   "accumulation"     RT0 when separate from the back buffer (gbuffer float: R32G32B32A32_FLOAT;
+//                      accumulate lighting with gbuffer demo: R8G8B8A8_UNORM)
+//   "gbuffer.diffuse", "gbuffer.specular"   RT1, RT2 (formats as above)
+//   "gbuffer.normal"   RT3 R32G32B32A32_FLOAT, view-space N, w = 0
+//   "gbuffer.position" R32G32B32A32_FLOAT (posView, 1), with position gbuffer only
+//   "light.diffuse", "light.specular"   R32G32B32A32_FLOAT, with accumulate lighting only
+//   "depth"            the depth-stencil buffer (depth from the G-buffer pass; the stencil left
+//                      by the last light)
+//   "depth.copy"       the demo's CopyTexturePass(depthStencilBuffer, depthStencilTexture) after
+//                      the G-buffer pass: the lighting PS reads depth from this copy (SRV
+//                      R24_UNORM_X8) while the original is bound as the depth-stencil target
+//   "killzone.samples" deferred-killzone only: R32_UINT, one texel per scene light in order
+//                      (16384 per row): the count query's samples, 0xFFFFFFFF for directional
+//                      and disabled lights (not counted)
+// All G-buffer targets are cleared to the demo's clear colour (ClearRenderTargetPass on
+// g_pGBufferRenderTarget), depth to 1, stencil to 0. Precision reference and fast are
+// InputErrors naming "/precision".
+Frame buildDeferred(const TechniqueContext& context);
+Frame buildDeferredKillzone(const TechniqueContext& context);
+
+// "killzone.samples" value of a light that has no count query.
+inline constexpr std::uint32_t kKillzoneNotCounted = 0xFFFFFFFFu;
+
+} // namespace tessera

@@ -1,0 +1,702 @@
+// The `deferred` and `deferred-killzone` techniques (seed 000 §5; the demo's g_DeferredTechnique in
+// main.cpp, DeferredRendering.hlsl PS_Geometry / PS_DeferredLighting, DeferredLightingPass.cpp):
+// clear -> G-buffer -> depth copy -> per-light volumes -> (compose / present) -> transparent.
+// Options and buffers are documented in include/tessera/techniques/deferred.h.
+#include <tessera/techniques/deferred.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/ext/matrix_clip_space.hpp>
+
+#include <tessera/buffers/texel_codec.h>
+#include <tessera/io/input_error.h>
+#include <tessera/math/screen_to_view.h>
+#include <tessera/math/specular_power_packing.h>
+#include <tessera/techniques/deferred_states.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/light_volumes.h>
+#include <tessera/techniques/technique_options.h>
+
+namespace tessera {
+namespace {
+
+// The demo's clear (main.cpp g_ClearColor), applied to every G-buffer target too
+// (ClearRenderTargetPass(g_pGBufferRenderTarget, ClearFlags::All, g_ClearColor, 1, 0)).
+constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
+// "killzone.samples" row length, texels (kMaxSurfaceDimension).
+constexpr std::uint32_t kSamplesRow = 16384;
+
+enum class Method { Dgep, Killzone };
+
+struct DeferredOptions {
+    ProjectionConvention projection = ProjectionConvention::DemoGl;
+    PixelSamplePoint samplePoint = PixelSamplePoint::Corner;
+    LightVolumeOptions volumes;
+    bool floatTargets = false;         // gbuffer float
+    bool positionFromGBuffer = false;  // position gbuffer
+    bool accumulateLighting = false;   // accumulate lighting
+    PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
+    bool alphaTest = false;            // transparent pass only
+    std::uint64_t threshold = kKillzoneDefaultThreshold;
+};
+
+// ---------------------------------------------------------------------------------------------
+// G-buffer pixel shader (PS_Geometry): the forward PS's material gathering (shadePhong in
+// src/shading/phong_material_shader.cpp, the same operations in the same order, so that a float
+// G-buffer holds exactly the values forward shades with), the demo's discard, no lighting.
+
+template <class T>
+Vec3<T> cross3(const Vec3<T>& a, const Vec3<T>& b) {  // HLSL cross: a.yzx * b.zxy - a.zxy * b.yzx
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+Vec3<T> neg3(const Vec3<T>& v) {
+    return {-v.x, -v.y, -v.z};
+}
+// mul(v, float3x3(T, B, N)) with the rows T, B, N: v.x * T + v.y * B + v.z * N, left to right.
+template <class T>
+Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Vec3<T>& n) {
+    return (t * v.x + b * v.y) + n * v.z;
+}
+// The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
+template <class T>
+Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
+    const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
+    return any ? color * texel : texel;
+}
+
+// What PS_Geometry computes for one pixel before packing it into the targets.
+struct GBufferSample {
+    glm::vec4 ambientEmissive{0.0f};  // OUT.LightAccumulation = ambient + emissive
+    glm::vec4 diffuse{0.0f};          // OUT.Diffuse
+    glm::vec4 specular{0.0f};         // 0 unless specularPower > 1 (then SpecularColor, texture rule)
+    glm::vec4 normalView{0.0f};       // OUT.NormalVS (w = 0)
+    float alpha = 1.0f;               // diffuse.a or the opacity texture's .r
+    float specularPower = -1.0f;
+};
+
+template <std::uint32_t F>
+bool gatherGBuffer(const PhongShaderData<float>& d, const PixelInput<PhongVaryings>& in, GBufferSample& s) {
+    using T = float;
+    const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
+    const PhongVaryings& v = in.varyings;
+
+    Vec4<T> diffuse = d.diffuseColor;
+    if constexpr ((F & kPhongDiffuseTexture) != 0)
+        if (d.diffuseTexture.bound()) diffuse = textureRule(diffuse, texel(d.diffuseTexture));
+    T alpha = d.ignoreDiffuseAlpha ? T(1) : diffuse.w;
+    if constexpr ((F & kPhongOpacityTexture) != 0)
+        if (d.opacityTexture.bound()) alpha = texel(d.opacityTexture).x;  // .r
+    if constexpr ((F & kPhongAlphaTest) != 0)
+        if (alpha * d.opacity < d.alphaThreshold) return false;  // PS_Geometry: discard
+
+    Vec4<T> ambient = d.ambientColor;
+    if constexpr ((F & kPhongAmbientTexture) != 0)
+        if (d.ambientTexture.bound()) ambient = textureRule(ambient, texel(d.ambientTexture));
+    ambient *= d.globalAmbient;
+
+    Vec4<T> emissive = d.emissiveColor;
+    if constexpr ((F & kPhongEmissiveTexture) != 0)
+        if (d.emissiveTexture.bound()) emissive = textureRule(emissive, texel(d.emissiveTexture));
+
+    T specularPower = d.specularPower;
+    if constexpr ((F & kPhongSpecularPowerTexture) != 0)
+        if (d.specularPowerTexture.bound()) specularPower = texel(d.specularPowerTexture).x * d.specularScale;
+
+    Vec4<T> normalView;
+    bool mapped = false;
+    if constexpr ((F & kPhongNormalMap) != 0) {
+        if (d.normalTexture.bound()) {  // DoNormalMapping: normalize(mul(tex * 2 - 1, TBN))
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(Vec3<T>(v.binormalView));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const Vec3<T> expanded = Vec3<T>(texel(d.normalTexture)) * T(2) - T(1);
+            normalView = hlsl::normalize(Vec4<T>(mulRowTbn(expanded, t, b, n), T(0)));
+            mapped = true;
+        }
+    }
+    if constexpr ((F & kPhongBumpMap) != 0) {
+        if (!mapped && d.bumpTexture.bound()) {  // DoBumpMapping with the negated binormal; NOT normalized
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(neg3(Vec3<T>(v.binormalView)));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const T height = T(d.bumpTexture.sample(in).x) * d.bumpIntensity;
+            const T heightU = T(d.bumpTexture.sample(in, glm::ivec2(1, 0)).x) * d.bumpIntensity;
+            const T heightV = T(d.bumpTexture.sample(in, glm::ivec2(0, 1)).x) * d.bumpIntensity;
+            const Vec3<T> p{T(0), T(0), height}, pU{T(1), T(0), heightU}, pV{T(0), T(1), heightV};
+            const Vec3<T> normal = cross3(hlsl::normalize(pU - p), hlsl::normalize(pV - p));
+            normalView = Vec4<T>(mulRowTbn(normal, t, b, n), T(0));
+            mapped = true;
+        }
+    }
+    if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
+
+    Vec4<T> specular(T(0));
+    if (specularPower > T(1)) {  // "If specular power is too low, don't use it."
+        specular = d.specularColor;
+        if constexpr ((F & kPhongSpecularTexture) != 0)
+            if (d.specularTexture.bound()) specular = textureRule(specular, texel(d.specularTexture));
+    }
+    s.ambientEmissive = ambient + emissive;
+    s.diffuse = diffuse;
+    s.specular = specular;
+    s.normalView = normalView;
+    s.alpha = alpha;
+    s.specularPower = specularPower;
+    return true;
+}
+
+using GatherFn = bool (*)(const PhongShaderData<float>&, const PixelInput<PhongVaryings>&, GBufferSample&);
+
+// The same specialization axes as forward's variants (phong_material_shader.h).
+constexpr std::array<std::uint32_t, 5> kAxes{kPhongAmbientTexture, kPhongEmissiveTexture, kPhongDiffuseTexture,
+                                             kPhongNormalMap, kPhongAlphaTest};
+static_assert((kAxes[0] | kAxes[1] | kAxes[2] | kAxes[3] | kAxes[4]) == kPhongSpecializedAxes);
+
+constexpr std::uint32_t maskOfIndex(std::size_t index) {
+    std::uint32_t mask = 0;
+    for (std::size_t b = 0; b < kAxes.size(); ++b)
+        if ((index >> b) & 1u) mask |= kAxes[b];
+    return mask;
+}
+constexpr std::size_t indexOfMask(std::uint32_t mask) {
+    std::size_t index = 0;
+    for (std::size_t b = 0; b < kAxes.size(); ++b)
+        if ((mask & kAxes[b]) != 0) index |= std::size_t(1) << b;
+    return index;
+}
+template <std::size_t... I>
+constexpr std::array<GatherFn, sizeof...(I)> makeGatherTable(std::index_sequence<I...>) {
+    return {&gatherGBuffer<maskOfIndex(I)>...};
+}
+constexpr auto kGatherTable = makeGatherTable(std::make_index_sequence<std::size_t(1) << kAxes.size()>{});
+
+struct GatherVariant {
+    GatherFn fn = nullptr;
+    bool mayDiscard = false;
+    std::string name;
+};
+
+GatherVariant selectGather(std::uint32_t features) {
+    GatherVariant v;
+    v.mayDiscard = (features & kPhongAlphaTest) != 0;
+    if ((features & ~kPhongSpecializedAxes) == 0) {
+        v.fn = kGatherTable[indexOfMask(features)];
+        v.name = "gbuffer:";
+        v.name += phongFeatureNames(features);
+    } else {
+        v.fn = v.mayDiscard ? &gatherGBuffer<kPhongAllFeatures> : &gatherGBuffer<kPhongAllFeatures & ~kPhongAlphaTest>;
+        v.name = "gbuffer:generic(";
+        v.name += phongFeatureNames(features);
+        v.name += ')';
+    }
+    return v;
+}
+
+// PS_Geometry's outputs: SV_Target0 light accumulation, 1 diffuse, 2 specular, 3 view normal,
+// (4 view position with position gbuffer).
+template <bool kDiscard, int kTargets>
+struct GBufferPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = kTargets;
+    static constexpr bool kMayDiscard = kDiscard;
+    GatherFn gather = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    bool floatTargets = false;     // spec power unpacked in RT2.a
+    bool forwardAlpha = false;     // accumulate lighting: RT0.a = alpha * Opacity (forward's output alpha)
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargets>& out) const {
+        GBufferSample s;
+        if (!gather(*data, in, s)) {
+            out.discard();
+            return;
+        }
+        out.target[0] = forwardAlpha ? glm::vec4(s.ambientEmissive.x, s.ambientEmissive.y, s.ambientEmissive.z,
+                                                 s.alpha * data->opacity)
+                                     : s.ambientEmissive;
+        out.target[1] = s.diffuse;
+        // OUT.Specular = float4(specular.rgb, log2(specularPower) / 10.5f)
+        out.target[2] = glm::vec4(s.specular.x, s.specular.y, s.specular.z,
+                                  floatTargets ? s.specularPower : packSpecularPower(s.specularPower));
+        out.target[3] = s.normalView;
+        if constexpr (kTargets == 5) out.target[4] = glm::vec4(in.varyings.posView, 1.0f);
+    }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Light volumes and the full-screen quad: VS_main with position only (no varyings used).
+
+struct VolumeVertex {
+    glm::vec3 posObject;
+};
+
+struct VolumeVS {
+    using Varyings = NoVaryings;
+    glm::mat4 clipFromObject{1.0f};  // ModelViewProjection
+    VertexOutput<NoVaryings> operator()(const VolumeVertex& v) const {
+        return {clipFromObject * glm::vec4(v.posObject, 1.0f), {}};
+    }
+};
+
+// CreateScreenQuad(-1, 1, -1, 1, -1): the quad at z = -1, counter-clockwise seen from +z (a
+// front face under the demo's FrontCounterClockwise rasterizer), drawn with
+// glm::ortho(-1, 1, -1, 1, 0, 1) (OpenGL form: z_clip = -2 z - 1 = 1, the far plane).
+const std::array<VolumeVertex, 4> kScreenQuad{{{{-1.0f, -1.0f, -1.0f}}, {{1.0f, -1.0f, -1.0f}}, {{1.0f, 1.0f, -1.0f}},
+                                               {{-1.0f, 1.0f, -1.0f}}}};
+const std::array<std::uint32_t, 6> kScreenQuadIndices{0, 1, 2, 0, 2, 3};
+
+// ---------------------------------------------------------------------------------------------
+// G-buffer reads (Texture2D.Load at mip 0): R8G8B8A8_UNORM through a 256-entry table made by the
+// format's own decoder (so the values are decodeTexel's), R32G32B32A32_FLOAT as stored.
+
+class TargetReader {
+public:
+    TargetReader() = default;
+    explicit TargetReader(const Surface& s) : mSurface(&s), mRgba8(s.format() == Format::R8G8B8A8_UNORM) {
+        if (mRgba8) {
+            for (unsigned c = 0; c < 256; ++c) {
+                const std::array<std::byte, 4> texel{std::byte(c), std::byte(0), std::byte(0), std::byte(0)};
+                mUnorm8[c] = decodeTexel(Format::R8G8B8A8_UNORM, texel.data()).x;
+            }
+        }
+    }
+    glm::vec4 load(std::uint32_t x, std::uint32_t y) const {
+        const std::byte* p = mSurface->texel(x, y);
+        if (mRgba8)
+            return {mUnorm8[std::to_integer<unsigned>(p[0])], mUnorm8[std::to_integer<unsigned>(p[1])],
+                    mUnorm8[std::to_integer<unsigned>(p[2])], mUnorm8[std::to_integer<unsigned>(p[3])]};
+        if (mSurface->format() == Format::R32G32B32A32_FLOAT) {
+            glm::vec4 v;
+            std::memcpy(&v[0], p, 16);
+            return v;
+        }
+        return mSurface->load(x, y);
+    }
+
+private:
+    const Surface* mSurface = nullptr;
+    bool mRgba8 = false;
+    std::array<float, 256> mUnorm8{};
+};
+
+// What PS_DeferredLighting (and the compose pass) read: the G-buffer, the depth copy and
+// ScreenToViewParams.
+struct LightingInputs {
+    TargetReader diffuse, specular, normal, position, accumulation, lightDiffuse, lightSpecular;
+    const Surface* depth = nullptr;   // "depth.copy"
+    glm::mat4 inverseProjection{1.0f};
+    glm::vec2 screenDimensions{1.0f};
+    PixelSamplePoint samplePoint = PixelSamplePoint::Corner;
+    bool floatTargets = false, positionFromGBuffer = false;
+
+    // Exp2(specular.a * 10.5) of the demo, or the unpacked float.
+    float specularPower(const glm::vec4& specularStored) const {
+        return floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w);
+    }
+};
+
+// PS_DeferredLighting for one light. kTargets = 1: the demo's
+// `(diffuse * lit.Diffuse) + (specular * lit.Specular)`; kTargets = 2 (accumulate lighting):
+// lit.Diffuse and lit.Specular. No Enabled and no range check: the volume selects the pixels.
+template <int kTargets>
+struct DeferredLightingPS {
+    using Varyings = NoVaryings;
+    static constexpr int kTargetCount = kTargets;
+    const LightingInputs* in = nullptr;
+    const ViewLight<float>* light = nullptr;
+    void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<kTargets>& out) const {
+        // int2 texCoord = IN.position.xy (truncation: the pixel's integer corner).
+        const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
+        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y);
+        const glm::vec4 posView =
+            in->positionFromGBuffer
+                ? in->position.load(x, y)
+                : reconstructPositionView(x, y, in->depth->loadDepth(x, y), in->screenDimensions, in->inverseProjection,
+                                          in->samplePoint);
+        const glm::vec4 eyeView{0.0f, 0.0f, 0.0f, 1.0f};
+        const glm::vec4 viewDirView = hlsl::normalize(eyeView - posView);
+        const glm::vec4 diffuse = in->diffuse.load(x, y);
+        const glm::vec4 specular = in->specular.load(x, y);
+        const glm::vec4 normalView = in->normal.load(x, y);
+        const float specularPower = in->specularPower(specular);
+        LightingResult<float> lit;
+        switch (light->type) {
+        case LightType::Directional: lit = doDirectionalLight(*light, specularPower, viewDirView, normalView); break;
+        case LightType::Point: lit = doPointLight(*light, specularPower, viewDirView, posView, normalView); break;
+        case LightType::Spot: lit = doSpotLight(*light, specularPower, viewDirView, posView, normalView); break;
+        }
+        if constexpr (kTargets == 1) {
+            out.target[0] = diffuse * lit.diffuse + specular * lit.specular;
+        } else {
+            out.target[0] = lit.diffuse;
+            out.target[1] = lit.specular;
+        }
+    }
+};
+
+// accumulate lighting: forward's final expression from the G-buffer and the light sums
+// (ForwardRendering.hlsl PS_main after DoLighting): diffuse *= float4(D.rgb, 1); specular only
+// when SpecularPower > 1; ((ambient + emissive) + diffuse) + specular; alpha from RT0.
+struct ComposePS {
+    using Varyings = NoVaryings;
+    static constexpr int kTargetCount = 1;
+    const LightingInputs* in = nullptr;
+    void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<1>& out) const {
+        const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
+        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y);
+        const glm::vec4 ambientEmissive = in->accumulation.load(x, y);
+        const glm::vec4 litDiffuse = in->lightDiffuse.load(x, y);
+        const glm::vec4 specularStored = in->specular.load(x, y);
+        glm::vec4 diffuse = in->diffuse.load(x, y);
+        diffuse *= glm::vec4(litDiffuse.x, litDiffuse.y, litDiffuse.z, 1.0f);
+        glm::vec4 specular(0.0f);
+        if (in->specularPower(specularStored) > 1.0f)
+            specular = glm::vec4(specularStored.x, specularStored.y, specularStored.z, 0.0f) * in->lightSpecular.load(x, y);
+        const glm::vec4 sum = (ambientEmissive + diffuse) + specular;
+        out.target[0] = glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w);
+    }
+};
+
+// ---------------------------------------------------------------------------------------------
+
+struct DeferredSetup {
+    Method method = Method::Dgep;
+    DeferredOptions options;
+    std::shared_ptr<ForwardPassSetup> forward;
+    std::vector<Light> lightsWorld;  // the scene's lights, scene order
+    LightVolumes volumes;
+    std::vector<VolumeVertex> sphereVertices, coneVertices;
+    LightingInputs inputs;           // bound after the G-buffer pass
+    std::string accumulationName;    // RT0
+    bool separateAccumulation = false;
+};
+
+std::uint64_t optionThreshold(const nlohmann::json& options, const std::string& file) {
+    if (!options.is_object()) return kKillzoneDefaultThreshold;
+    const auto it = options.find("threshold");
+    if (it == options.end()) return kKillzoneDefaultThreshold;
+    if (it->is_number_unsigned()) return it->get<std::uint64_t>();
+    if (it->is_number_integer() && it->get<std::int64_t>() >= 0) return std::uint64_t(it->get<std::int64_t>());
+    throw inputError(file, "/options/threshold", "expected an integer >= 0 (samples)");
+}
+
+DeferredOptions parseOptions(const TechniqueContext& ctx, Method method, const std::string& file) {
+    DeferredOptions o;
+    const nlohmann::json& j = ctx.options;
+    o.projection = optionEnum(j, "projection", {"demo-gl", "d3d"}, "demo-gl", file) == "d3d" ? ProjectionConvention::D3d
+                                                                                             : ProjectionConvention::DemoGl;
+    o.samplePoint = optionEnum(j, "reconstruct", {"corner", "centre"}, "corner", file) == "centre" ? PixelSamplePoint::Centre
+                                                                                                  : PixelSamplePoint::Corner;
+    o.volumes.fit = optionEnum(j, "lightVolumes", {"inscribed", "circumscribed"}, "inscribed", file) == "circumscribed"
+                        ? VolumeFit::Circumscribed
+                        : VolumeFit::Inscribed;
+    o.volumes.rotation = optionEnum(j, "volumeRotation", {"glm096", "robust"}, "glm096", file) == "robust"
+                             ? VolumeRotation::Robust
+                             : VolumeRotation::Glm096;
+    o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
+    o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
+    o.accumulateLighting = optionEnum(j, "accumulate", {"color", "lighting"}, "color", file) == "lighting";
+    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
+                                                                                 : PhongSamplerChoice::Demo;
+    o.alphaTest = optionBool(j, "alphaTest", false, file);
+    if (method == Method::Killzone) o.threshold = optionThreshold(j, file);
+    return o;
+}
+
+// A point or spot light whose range is not finite has no finite volume (glTF
+// KHR_lights_punctual without range): it is drawn like a directional light, as the far-plane
+// quad, so every pixel in front of the far plane is shaded (a tessera choice; the demo's ranges
+// are finite).
+bool drawnAsQuad(const Light& light) { return light.type == LightType::Directional || !std::isfinite(light.range); }
+
+// One draw of a volume (or the quad) with pass state `pass`; `ps` null = depth/stencil only.
+template <class PS>
+void drawLightGeometry(const DeferredSetup& setup, Device& device, const PassState& pass, const RenderTargets& targets,
+                       const Light& light, const PS* ps, OcclusionQuery* query, DrawStats* stats) {
+    const ForwardPassSetup& fwd = *setup.forward;
+    const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
+    DrawState st = makeDrawState(pass, viewport);
+    VolumeVS vs;
+    std::span<const VolumeVertex> vertices;
+    std::span<const std::uint32_t> indices;
+    if (drawnAsQuad(light)) {
+        // DeferredLightingPass::Visit: ModelView = identity, ModelViewProjection = ortho.
+        vs.clipFromObject = glm::orthoRH_NO(-1.0f, 1.0f, -1.0f, 1.0f, 0.0f, 1.0f);
+        vertices = kScreenQuad;
+        indices = kScreenQuadIndices;
+    } else {
+        // ModelView = View * T * R * S; ModelViewProjection = Projection * ModelView.
+        const glm::mat4 viewFromObject = fwd.viewFromWorld * setup.volumes.worldFromObject(light, setup.options.volumes);
+        vs.clipFromObject = fwd.clipFromView * viewFromObject;
+        const bool sphere = light.type == LightType::Point;
+        vertices = sphere ? std::span<const VolumeVertex>(setup.sphereVertices) : std::span<const VolumeVertex>(setup.coneVertices);
+        indices = setup.volumes.meshFor(light.type).indices;
+    }
+    DrawStats s = ps ? device.draw(st, targets, vertices, indices, vs, *ps, query)
+                     : device.draw(st, targets, vertices, indices, vs, NoPixelShader{}, query);
+    if (stats) *stats += s;
+}
+
+// The lighting pass: per enabled light in scene order, the 3dgep (unmark, shade) or Killzone 2
+// (mark, count, shade-if-above-threshold) sequence; directional lights as the far-plane quad.
+template <int kTargets>
+void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawStats* stats,
+               std::map<std::string, std::uint64_t>* variantCounts) {
+    const ForwardPassSetup& fwd = *setup.forward;
+    Surface& depth = reg.get("depth");
+    RenderTargets depthOnly;
+    depthOnly.depthStencil = &depth;
+    RenderTargets shadeTargets;
+    shadeTargets.depthStencil = &depth;
+    if constexpr (kTargets == 1) {
+        shadeTargets.colors[0] = &reg.get(setup.accumulationName);
+    } else {
+        shadeTargets.colors[0] = &reg.get("light.diffuse");
+        shadeTargets.colors[1] = &reg.get("light.specular");
+    }
+    Surface* samples = setup.method == Method::Killzone ? &reg.get("killzone.samples") : nullptr;
+    const auto count = [variantCounts](const char* what, const Light& light) {
+        if (!variantCounts) return;
+        std::string name(what);
+        name += light.type == LightType::Point ? "point" : light.type == LightType::Spot ? "spot" : "directional";
+        ++(*variantCounts)[name];
+    };
+    for (std::size_t i = 0; i < setup.lightsWorld.size(); ++i) {
+        const Light& light = setup.lightsWorld[i];
+        if (!light.enabled) continue;  // the demo draws no volume for a disabled light
+        const DeferredLightingPS<kTargets> ps{&setup.inputs, &fwd.lightsExact[i]};
+        if (drawnAsQuad(light)) {
+            // DeferredLightingPass::Render clears the stencil for every enabled light; the
+            // directional pipeline does not use it.
+            depth.clearDepthStencil(false, 0.0f, true,
+                                    setup.method == Method::Killzone ? kKillzoneStencilClear : kDeferredStencilClear);
+            drawLightGeometry(setup, device, kDeferredDirectionalPass, shadeTargets, light, &ps, nullptr, stats);
+            count("light:", light);
+            continue;
+        }
+        if (setup.method == Method::Dgep) {
+            depth.clearDepthStencil(false, 0.0f, true, kDeferredStencilClear);
+            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kDeferredUnmarkPass, depthOnly, light, nullptr,
+                                                            nullptr, stats);
+            drawLightGeometry(setup, device, kDeferredShadePass, shadeTargets, light, &ps, nullptr, stats);
+            count("light:", light);
+        } else {
+            depth.clearDepthStencil(false, 0.0f, true, kKillzoneStencilClear);
+            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kKillzoneMarkPass, depthOnly, light, nullptr,
+                                                            nullptr, stats);
+            OcclusionQuery query;
+            query.begin();
+            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kKillzoneCountPass, depthOnly, light, nullptr,
+                                                            &query, stats);
+            query.end();
+            const std::uint64_t passed = query.samplesPassed();
+            const std::uint32_t stored = std::uint32_t(std::min<std::uint64_t>(passed, kKillzoneNotCounted - 1u));
+            encodeTexelUint(Format::R32_UINT, glm::uvec4(stored, 0u, 0u, 1u),
+                            samples->texel(std::uint32_t(i % kSamplesRow), std::uint32_t(i / kSamplesRow)));
+            if (killzoneShouldShade(passed, setup.options.threshold)) {
+                drawLightGeometry(setup, device, kKillzoneShadePass, shadeTargets, light, &ps, nullptr, stats);
+                count("light:", light);
+            } else {
+                count("killzone-skipped:", light);
+            }
+        }
+    }
+}
+
+Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
+    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
+    if (ctx.precision != Precision::Exact)
+        throw inputError(file, "/precision", "precision 'reference' and 'fast' are not implemented for deferred yet (use exact)");
+    auto setup = std::make_shared<DeferredSetup>();
+    setup->method = method;
+    setup->options = parseOptions(ctx, method, file);
+    const DeferredOptions& opt = setup->options;
+    setup->forward = makeForwardPassSetup(ctx, opt.projection, opt.sampler, opt.alphaTest);
+    setup->lightsWorld = ctx.resources->scene().lights;
+    for (const glm::vec3& p : setup->volumes.sphere().positions) setup->sphereVertices.push_back({p});
+    for (const glm::vec3& p : setup->volumes.cone().positions) setup->coneVertices.push_back({p});
+    setup->separateAccumulation = opt.floatTargets || opt.accumulateLighting;
+    setup->accumulationName = setup->separateAccumulation ? "accumulation" : std::string(kBackBufferName);
+    // ScreenToViewParams: InverseProjection = glm::inverse(projection), ScreenDimensions = viewport.
+    setup->inputs.inverseProjection = glm::inverse(setup->forward->clipFromView);
+    setup->inputs.screenDimensions = glm::vec2(float(ctx.width), float(ctx.height));
+    setup->inputs.samplePoint = opt.samplePoint;
+    setup->inputs.floatTargets = opt.floatTargets;
+    setup->inputs.positionFromGBuffer = opt.positionFromGBuffer;
+
+    const Format colorFormat = opt.floatTargets ? Format::R32G32B32A32_FLOAT : Format::R8G8B8A8_UNORM;
+    const Format depthFormat = opt.floatTargets ? Format::D32_FLOAT_S8X24_UINT : Format::D24_UNORM_S8_UINT;
+    const std::string back(kBackBufferName);
+    std::vector<std::string> gbufferTargets{setup->accumulationName, "gbuffer.diffuse", "gbuffer.specular", "gbuffer.normal"};
+    if (opt.positionFromGBuffer) gbufferTargets.emplace_back("gbuffer.position");
+    std::vector<std::string> lightTargets;
+    if (opt.accumulateLighting) lightTargets = {"light.diffuse", "light.specular"};
+    else lightTargets = {setup->accumulationName};
+    std::vector<std::string> created = gbufferTargets;
+    if (setup->separateAccumulation) created.push_back(back);
+    if (opt.accumulateLighting) created.insert(created.end(), lightTargets.begin(), lightTargets.end());
+    created.emplace_back("depth");
+    if (method == Method::Killzone) created.emplace_back("killzone.samples");
+
+    Frame frame;
+    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
+                   const DeferredOptions& o = setup->options;
+                   const std::uint32_t w = setup->forward->width, h = setup->forward->height;
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   if (setup->separateAccumulation)
+                       reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   if (o.positionFromGBuffer)
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   if (o.accumulateLighting) {
+                       reg.create("light.diffuse", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                       reg.create("light.specular", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                   }
+                   reg.create("depth", {w, h, depthFormat, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (setup->method == Method::Killzone) {
+                       const std::uint32_t n = std::uint32_t(std::max<std::size_t>(setup->lightsWorld.size(), 1));
+                       reg.create("killzone.samples", {std::min(n, kSamplesRow), (n + kSamplesRow - 1) / kSamplesRow,
+                                                       Format::R32_UINT, 1})
+                           .clearUint(glm::uvec4(kKillzoneNotCounted));
+                   }
+               }});
+
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+
+    std::vector<std::string> gbufferWrites = gbufferTargets;
+    gbufferWrites.emplace_back("depth");
+    frame.add({"gbuffer", gbufferWrites, gbufferWrites, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                   const ForwardPassSetup& fwd = *setup->forward;
+                   const DeferredOptions& o = setup->options;
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get(setup->accumulationName);
+                   rt.colors[1] = &reg.get("gbuffer.diffuse");
+                   rt.colors[2] = &reg.get("gbuffer.specular");
+                   rt.colors[3] = &reg.get("gbuffer.normal");
+                   if (o.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
+                   rt.depthStencil = &reg.get("depth");
+                   for (const DrawItem& item : res->drawItems()) {
+                       const PhongMaterial material = phongFromGltf(res->material(item.material));
+                       if (material.isTransparent()) continue;  // OpaquePass
+                       // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque
+                       // pass, with its glTF additions: doubleSided culls none, mirrored transforms).
+                       DrawState st = makeDrawState(kDeferredGBufferPass,
+                                                    Viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f});
+                       st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+                       st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+                       const glm::mat4 viewFromObject = fwd.viewFromWorld * item.worldFromObject;
+                       const PhongVS vs{fwd.clipFromView * viewFromObject, viewFromObject};
+                       const PrimitiveBuffer& prim = res->primitives()[item.primitive];
+                       const PhongShaderData<float> data =
+                           makePhongShaderData<float>(material, *fwd.textures, std::span<const ViewLight<float>>());
+                       const GatherVariant variant = selectGather(phongFeatures(material, true));
+                       if (variantCounts) ++(*variantCounts)[variant.name];
+                       const std::span<const SceneVertex> vertices(prim.vertices);
+                       const auto run = [&](auto ps) {
+                           ps.gather = variant.fn;
+                           ps.data = &data;
+                           ps.floatTargets = o.floatTargets;
+                           ps.forwardAlpha = o.accumulateLighting;
+                           DrawStats s = device->draw(st, rt, vertices, prim.indices, vs, ps);
+                           if (stats) *stats += s;
+                       };
+                       if (o.positionFromGBuffer) {
+                           if (variant.mayDiscard) run(GBufferPS<true, 5>{});
+                           else run(GBufferPS<false, 5>{});
+                       } else {
+                           if (variant.mayDiscard) run(GBufferPS<true, 4>{});
+                           else run(GBufferPS<false, 4>{});
+                       }
+                   }
+               }});
+
+    // CopyTexturePass(depthStencilBuffer, depthStencilTexture): the lighting PS's DepthTextureVS.
+    frame.add({"copy depth", {"depth"}, {"depth.copy"}, [](BufferRegistry& reg) {
+                   const Surface& depth = reg.get("depth");
+                   Surface& copy = reg.create("depth.copy", depth.desc());
+                   std::copy(depth.bytes().begin(), depth.bytes().end(), copy.bytes().begin());
+               }});
+
+    std::vector<std::string> lightReads = gbufferTargets;
+    lightReads.emplace_back("depth");
+    lightReads.emplace_back("depth.copy");
+    std::vector<std::string> lightWrites = lightTargets;
+    lightWrites.emplace_back("depth");
+    if (method == Method::Killzone) lightWrites.emplace_back("killzone.samples");
+    if (opt.accumulateLighting) lightReads.insert(lightReads.end(), lightTargets.begin(), lightTargets.end());
+    frame.add({"lights", lightReads, lightWrites, [setup, device, stats, variantCounts](BufferRegistry& reg) {
+                   LightingInputs& in = setup->inputs;
+                   in.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+                   in.specular = TargetReader(reg.get("gbuffer.specular"));
+                   in.normal = TargetReader(reg.get("gbuffer.normal"));
+                   if (setup->options.positionFromGBuffer) in.position = TargetReader(reg.get("gbuffer.position"));
+                   in.depth = &reg.get("depth.copy");
+                   if (setup->options.accumulateLighting) runLights<2>(*setup, *device, reg, stats, variantCounts);
+                   else runLights<1>(*setup, *device, reg, stats, variantCounts);
+               }});
+
+    if (setup->separateAccumulation) {
+        // The accumulation target to the back buffer as the output merger converts a PS value
+        // to R8G8B8A8_UNORM without blending: NaN -> 0, clamp to [0, 1], round (D3D11.3 §3.2.3.6).
+        frame.add({"present", {"accumulation"}, {back}, [](BufferRegistry& reg) {
+                       const Surface& accumulation = reg.get("accumulation");
+                       Surface& backbuffer = reg.get(kBackBufferName);
+                       for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
+                           for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
+                               glm::vec4 v = accumulation.load(x, y);
+                               for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
+                               backbuffer.store(x, y, 0, v);
+                           }
+                   }});
+    }
+    if (opt.accumulateLighting) {
+        // Forward's final expression on every pixel in front of the far plane (the directional
+        // quad's pixels), written to the back buffer without blending.
+        std::vector<std::string> composeReads{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "light.diffuse",
+                                              "light.specular", "depth", back};
+        frame.add({"compose", composeReads, {back}, [setup, device, stats](BufferRegistry& reg) {
+                       LightingInputs& in = setup->inputs;
+                       in.accumulation = TargetReader(reg.get("accumulation"));
+                       in.lightDiffuse = TargetReader(reg.get("light.diffuse"));
+                       in.lightSpecular = TargetReader(reg.get("light.specular"));
+                       RenderTargets rt;
+                       rt.colors[0] = &reg.get(kBackBufferName);
+                       rt.depthStencil = &reg.get("depth");
+                       PassState pass = kDeferredDirectionalPass;
+                       pass.blend = BlendState{};
+                       Light quad;
+                       quad.type = LightType::Directional;
+                       const ComposePS ps{&setup->inputs};
+                       drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
+                   }});
+    }
+
+    // The demo's TransparentPass with g_pTransparentPipeline, as forward's (seed 000 §5:
+    // "identical to forward"), over the back buffer and the G-buffer's depth.
+    frame.add({"transparent", {back, "depth"}, {back}, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get(kBackBufferName);
+                   rt.depthStencil = &reg.get("depth");
+                   drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
+               }});
+    return frame;
+}
+
+} // namespace
+
+Frame buildDeferred(const TechniqueContext& context) { return buildDeferredFrame(context, Method::Dgep); }
+
+Frame buildDeferredKillzone(const TechniqueContext& context) { return buildDeferredFrame(context, Method::Killzone); }
+
+} // namespace tessera
