@@ -2,6 +2,7 @@
 # the packaging pitfalls recorded in shared/spec/images-and-deps.md.
 find_package(glm CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
+if(TESSERA_WITH_OIIO)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO target lists /usr/include/opencv4, which only exists with
 # libopencv-core-dev installed; CMake refuses non-existent include paths at generate time.
@@ -12,6 +13,10 @@ foreach(_prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES
     set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${_prop} "${_dirs}")
   endif()
 endforeach()
+else()
+  # libstb-dev ships stb_image compiled as libstb.so (no CMake package).
+  find_library(TESSERA_STB_LIBRARY stb REQUIRED)
+endif()
 find_package(TinyGLTF CONFIG REQUIRED)   # target TinyGLTF::TinyGLTF (shared library on Debian)
 find_package(nlohmann_json CONFIG REQUIRED)
 if(TESSERA_BUILD_TESTS)

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#ifndef TESSERA_NO_OIIO
 #include <OpenImageIO/imageio.h>
+#endif
 
 namespace tessera {
 namespace {
@@ -19,8 +21,23 @@ std::string lowerExtension(const std::filesystem::path& path) {
     return ext;
 }
 
-void writeImage(const std::filesystem::path& target, int width, int height, int channels, OIIO::TypeDesc fileType,
-                OIIO::TypeDesc memType, const void* pixels, const std::vector<std::string>& channelNames) {
+// Pixel types of the files written and of the memory they are written from.
+enum class PixelType { UInt8, UInt32, Half, Float };
+
+#ifndef TESSERA_NO_OIIO
+OIIO::TypeDesc typeDesc(PixelType t) {
+    switch (t) {
+    case PixelType::UInt8: return OIIO::TypeDesc::UINT8;
+    case PixelType::UInt32: return OIIO::TypeDesc::UINT32;
+    case PixelType::Half: return OIIO::TypeDesc::HALF;
+    case PixelType::Float: break;
+    }
+    return OIIO::TypeDesc::FLOAT;
+}
+
+void writeImage(const std::filesystem::path& target, int width, int height, int channels, PixelType fileTypeIn,
+                PixelType memTypeIn, const void* pixels, const std::vector<std::string>& channelNames) {
+    const OIIO::TypeDesc fileType = typeDesc(fileTypeIn), memType = typeDesc(memTypeIn);
     const std::filesystem::path tmp = target.parent_path() / (target.stem().string() + ".partial" + target.extension().string());
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) throw std::runtime_error(target.string() + ": no image writer for this extension (" + OIIO::geterror() + ")");
@@ -46,6 +63,13 @@ void writeImage(const std::filesystem::path& target, int width, int height, int 
         throw std::runtime_error(target.string() + ": cannot rename into place: " + ec.message());
     }
 }
+#else
+// Built with TESSERA_WITH_OIIO=OFF (benchmark binaries for hosts without OpenImageIO).
+void writeImage(const std::filesystem::path& target, int, int, int, PixelType, PixelType, const void*,
+                const std::vector<std::string>&) {
+    throw std::runtime_error(target.string() + ": this tessera was built without OpenImageIO (TESSERA_WITH_OIIO=OFF) and writes no images");
+}
+#endif
 
 const std::vector<std::string>& colorChannelNames(std::uint32_t count) {
     static const std::vector<std::string> names[4] = {{"R"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
@@ -89,8 +113,8 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
                     for (std::uint32_t c = 0; c < ch; ++c) dst[c] = v[int(c)];
                 }
             }
-        const OIIO::TypeDesc fileType = exrType == ExrPixelType::Half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
-        writeImage(path, w, h, int(ch), fileType, OIIO::TypeDesc::FLOAT, px.data(),
+        const PixelType fileType = exrType == ExrPixelType::Half ? PixelType::Half : PixelType::Float;
+        writeImage(path, w, h, int(ch), fileType, PixelType::Float, px.data(),
                    info.hasDepth ? std::vector<std::string>{"Z"} : colorChannelNames(ch));
     } else if (rgba8 && (ext == ".png" || ext == ".tif" || ext == ".tiff")) {
         std::vector<std::uint8_t> px(std::size_t(w) * h * 4);
@@ -98,7 +122,7 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
             for (std::uint32_t x = 0; x < s.width(); ++x)
                 for (int c = 0; c < 4; ++c)
                     px[(std::size_t(y) * w + x) * 4 + std::size_t(c)] = std::to_integer<std::uint8_t>(s.texel(x, y, sample)[c]);
-        writeImage(path, w, h, 4, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, px.data(), colorChannelNames(4));
+        writeImage(path, w, h, 4, PixelType::UInt8, PixelType::UInt8, px.data(), colorChannelNames(4));
     } else if (info.kind == FormatKind::Uint && (ext == ".tif" || ext == ".tiff")) {
         const std::uint32_t ch = info.channels;
         std::vector<std::uint32_t> px(std::size_t(w) * h * ch);
@@ -107,7 +131,7 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
                 const glm::uvec4 v = s.loadUint(x, y, sample);
                 for (std::uint32_t c = 0; c < ch; ++c) px[(std::size_t(y) * w + x) * ch + c] = v[int(c)];
             }
-        writeImage(path, w, h, int(ch), OIIO::TypeDesc::UINT32, OIIO::TypeDesc::UINT32, px.data(), colorChannelNames(ch));
+        writeImage(path, w, h, int(ch), PixelType::UInt32, PixelType::UInt32, px.data(), colorChannelNames(ch));
     } else {
         throw std::runtime_error(path.string() + ": cannot store " + std::string(info.name) + " as '" + ext +
                                  "' without loss (use " + losslessExtension(s.format()) + ")");
@@ -139,7 +163,7 @@ void writeStencil(const Surface& s, const std::filesystem::path& path, std::uint
     std::vector<std::uint8_t> px(std::size_t(s.width()) * s.height());
     for (std::uint32_t y = 0; y < s.height(); ++y)
         for (std::uint32_t x = 0; x < s.width(); ++x) px[std::size_t(y) * s.width() + x] = s.loadStencil(x, y, sample);
-    writeImage(path, int(s.width()), int(s.height()), 1, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, px.data(), {"S"});
+    writeImage(path, int(s.width()), int(s.height()), 1, PixelType::UInt8, PixelType::UInt8, px.data(), {"S"});
 }
 
 } // namespace tessera

@@ -25,8 +25,12 @@
 #include <nlohmann/json.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#ifdef TESSERA_NO_OIIO
+#include <stb/stb_image.h>
+#else
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#endif
 #include <tiny_gltf.h>
 #include <tbb/parallel_for.h>
 
@@ -201,6 +205,24 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
     if (size == 0) return "the image data is empty";
     const std::string extension = imageExtension(bytes, size, mimeType, uri);
     if (extension.empty()) return "unknown image format (mimeType '" + mimeType + "')";
+#ifdef TESSERA_NO_OIIO
+    // Benchmark builds without OpenImageIO (TESSERA_WITH_OIIO=OFF): stb_image, which expands
+    // grey / grey+alpha / RGB to RGBA the same way. PNG texels are identical; JPEG may differ.
+    if (size > std::size_t(std::numeric_limits<int>::max())) return "the image data is larger than 2 GiB";
+    int width = 0, height = 0, channelsInFile = 0;
+    if (!stbi_info_from_memory(bytes, int(size), &width, &height, &channelsInFile))
+        return "cannot decode the image as " + extension.substr(1) + ": " + stbi_failure_reason();
+    if (width < 1 || height < 1 || width > MAX_IMAGE_EXTENT || height > MAX_IMAGE_EXTENT)
+        return std::to_string(width) + " x " + std::to_string(height) + " texels is outside 1..16384 per axis";
+    image.width = std::uint32_t(width);
+    image.height = std::uint32_t(height);
+    if (headerOnly) return {};
+    stbi_uc* texels = stbi_load_from_memory(bytes, int(size), &width, &height, &channelsInFile, 4);
+    if (!texels) return std::string("cannot decode the image: ") + stbi_failure_reason();
+    image.rgba8.assign(texels, texels + std::size_t(image.width) * image.height * 4);
+    stbi_image_free(texels);
+    return {};
+#else
     OIIO::Filesystem::IOMemReader reader(bytes, size);
     void* proxy = &reader;
     OIIO::ImageSpec config;
@@ -240,6 +262,7 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
         }
     }
     return {};
+#endif
 }
 
 struct ImageLoaderState {
