@@ -1,55 +1,20 @@
 // Golden images of the bundled scenes through `deferred` and `deferred-killzone` (3dgep, seed
 // 000 §5) with the faithful defaults: G-buffer formats, stencil light volumes, the demo's corner
 // reconstruction and GL-form projection end to end. 320x180 at 1 and 2 threads (bytes must agree).
-#include <doctest/doctest.h>
-
-#include <algorithm>
-#include <filesystem>
-
-#include <tessera/scene/scene_file.h>
-#include <tessera/techniques/technique.h>
-
-#include "support/golden_check.h"
+#include "support/bundled_scene.h"
 
 using namespace tessera;
 
 namespace {
 
-Surface renderScene(const std::string& scene, const std::string& technique, std::uint32_t threads) {
-    SceneDescription desc = parseSceneFile(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / (scene + ".json"));
-    desc.width = 320;
-    desc.height = 180;
-    Camera camera;
-    const Scene loaded = loadScene(desc, true, &camera);
-    const SceneResources resources(loaded, {}, findTechnique(technique)->textures);
-    Device device(DeviceConfig{64, threads});
-    DrawStats stats;
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = camera;
-    ctx.width = desc.width;
-    ctx.height = desc.height;
-    ctx.stats = &stats;
-    ctx.sceneFile = desc.file.string();
-    BufferRegistry registry;
-    buildTechnique(technique, ctx, desc.file.string()).run(registry);
-    return registry.get(kBackBufferName);
-}
-
-void checkAtOneAndTwoThreads(const std::string& scene, const std::string& technique) {
-    const Surface one = renderScene(scene, technique, 1);
-    const Surface two = renderScene(scene, technique, 2);
-    CHECK(std::equal(one.bytes().begin(), one.bytes().end(), two.bytes().begin(), two.bytes().end()));
-    test::checkGolden(one, scene, technique);
+void checkSmall(const std::string& scene, const std::string& technique) {
+    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique(technique)->textures), technique);
 }
 
 } // namespace
 
-TEST_CASE("golden: default scene, deferred, 320x180") { checkAtOneAndTwoThreads("default", "deferred"); }
+TEST_CASE("golden: default scene, deferred, 320x180") { checkSmall("default", "deferred"); }
 
-TEST_CASE("golden: Sponza with 64 large lights, deferred, 320x180") {
-    checkAtOneAndTwoThreads("sponza-large-lights", "deferred");
-}
+TEST_CASE("golden: Sponza with 64 large lights, deferred, 320x180") { checkSmall("sponza-large-lights", "deferred"); }
 
-TEST_CASE("golden: default scene, deferred-killzone, 320x180") { checkAtOneAndTwoThreads("default", "deferred-killzone"); }
+TEST_CASE("golden: default scene, deferred-killzone, 320x180") { checkSmall("default", "deferred-killzone"); }

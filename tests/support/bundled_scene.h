@@ -1,0 +1,81 @@
+// A bundled scene (scenes/<name>.json) loaded once at a chosen size, rendered through any
+// technique at any thread count; and the golden check the golden tests share: render at 1 and 2
+// threads, require the same bytes, compare with golden/<scene>/<name>.png.
+#pragma once
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <tessera/scene/scene_file.h>
+#include <tessera/techniques/technique.h>
+
+#include "support/golden_check.h"
+
+namespace tessera::test {
+
+class BundledScene {
+public:
+    // width/height 0: the scene file's resolution. Colour textures decode per `policy` (a
+    // technique's TexturePolicy; techniques with different policies need separate loads).
+    BundledScene(const std::string& name, std::uint32_t width, std::uint32_t height, TexturePolicy policy)
+        : name_(name) {
+        desc_ = parseSceneFile(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / (name + ".json"));
+        if (width != 0) desc_.width = width;
+        if (height != 0) desc_.height = height;
+        scene_ = std::make_unique<Scene>(loadScene(desc_, true, &camera_));
+        resources_ = std::make_unique<SceneResources>(*scene_, nullptr, policy);
+    }
+
+    // The technique's frame run once. `options`: the scene file's options when the technique is
+    // the file's own, else none, unless given.
+    BufferRegistry render(const std::string& technique, std::uint32_t threads,
+                          const nlohmann::json* options = nullptr, DrawStats* stats = nullptr) const {
+        Device device(DeviceConfig{64, threads});
+        DrawStats localStats;
+        TechniqueContext ctx;
+        ctx.device = &device;
+        ctx.resources = resources_.get();
+        ctx.camera = camera_;
+        ctx.width = desc_.width;
+        ctx.height = desc_.height;
+        ctx.options = options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object();
+        ctx.stats = stats ? stats : &localStats;
+        ctx.sceneFile = desc_.file.string();
+        BufferRegistry registry;
+        buildTechnique(technique, ctx, desc_.file.string()).run(registry);
+        return registry;
+    }
+
+    const std::string& name() const { return name_; }
+    const SceneDescription& description() const { return desc_; }
+    const Scene& scene() const { return *scene_; }
+    const SceneResources& resources() const { return *resources_; }
+    const Camera& camera() const { return camera_; }
+
+private:
+    std::string name_;
+    SceneDescription desc_;
+    Camera camera_;
+    std::unique_ptr<Scene> scene_;
+    std::unique_ptr<SceneResources> resources_;
+};
+
+inline bool sameBytes(const Surface& a, const Surface& b) {
+    return std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
+}
+
+// Renders `technique` at 1 and 2 threads, checks that the back buffers hold the same bytes, and
+// compares the image with golden/<scene>/<goldenName>.png (goldenName defaults to the technique).
+inline void checkGoldenAtOneAndTwoThreads(const BundledScene& scene, const std::string& technique,
+                                          const std::string& goldenName = {}) {
+    BufferRegistry one = scene.render(technique, 1);
+    BufferRegistry two = scene.render(technique, 2);
+    CHECK(sameBytes(one.get(kBackBufferName), two.get(kBackBufferName)));
+    checkGolden(one.get(kBackBufferName), scene.name(), goldenName.empty() ? technique : goldenName);
+}
+
+} // namespace tessera::test
