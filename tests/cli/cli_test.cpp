@@ -34,7 +34,7 @@ std::filesystem::path scratch(const std::string& name) {
 
 } // namespace
 
-TEST_CASE("cli: render writes the image and exits 0; --dump writes every named buffer") {
+TEST_CASE("cli: render writes the image and exits 0, --dump writes every named buffer") {
     const auto out = scratch("ok.png");
     const auto dump = scratch("dump");
     std::filesystem::remove(out);

@@ -112,7 +112,7 @@ TEST_CASE("gl_peer: square on pixel centres covers 10..19 x 10..19 exactly once 
     CHECK(img.samplesPassed == 100);
 }
 
-TEST_CASE("gl_peer: D3D row 0 is read-back row 0; hypotenuse excluded as a right edge") {
+TEST_CASE("gl_peer: D3D row 0 is read-back row 0, hypotenuse excluded as a right edge") {
     PeerFrame frame = makeFrame();
     PeerDraw draw;
     addTriangle(draw, kCwA, kCwB, kCwC, 0.5f, {1, 0, 0, 1});

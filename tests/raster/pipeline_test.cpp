@@ -89,7 +89,7 @@ struct UvPS {
     }
 };
 
-TEST_CASE("attributes are perspective-correct at pixel centres; SV_Position.w is clip w") {
+TEST_CASE("attributes are perspective-correct at pixel centres, SV_Position.w is clip w") {
     // A triangle with clip w = 1, 4, 2 at its vertices. u/w and 1/w are affine in window
     // space, so the exact u at a pixel centre is (sum l_i u_i / w_i) / (sum l_i / w_i) with
     // window-space barycentrics l_i; computed here in double from the window positions.
@@ -136,7 +136,7 @@ TEST_CASE("attributes are perspective-correct at pixel centres; SV_Position.w is
     CHECK(q.w == b.x - q.x);
 }
 
-TEST_CASE("viewport depth range maps NDC z; depth clip off clamps instead of clipping") {
+TEST_CASE("viewport depth range maps NDC z, depth clip off clamps instead of clipping") {
     Device dev(DeviceConfig{16, 1});
     Surface depth(SurfaceDesc{16, 16, Format::D32_FLOAT, 1});
     DrawState st;
@@ -186,7 +186,7 @@ TEST_CASE("early depth/stencil never changes results: discard suppresses stencil
     CHECK(ds.loadStencil(5, 5) == 1);
 }
 
-TEST_CASE("occlusion query counts passing samples; scissor limits them") {
+TEST_CASE("occlusion query counts passing samples, scissor limits them") {
     Device dev(DeviceConfig{8, 2});
     Surface ds(SurfaceDesc{40, 30, Format::D32_FLOAT_S8X24_UINT, 4});
     ds.clearDepthStencil(true, 1.0f, true, 0);
@@ -238,7 +238,7 @@ struct FacingPS {
     }
 };
 
-TEST_CASE("facing: clockwise in window space is front unless FrontCounterClockwise; culling follows") {
+TEST_CASE("facing: clockwise in window space is front unless FrontCounterClockwise, culling follows") {
     Device dev(DeviceConfig{16, 1});
     Surface color(SurfaceDesc{16, 16, Format::R32G32B32A32_FLOAT, 1});
     // Window (2,2) -> (14,2) -> (2,14): right then down-left, clockwise on screen (y down).

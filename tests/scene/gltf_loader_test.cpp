@@ -366,7 +366,7 @@ TEST_CASE("gltf: appending a second file offsets mesh, material and texture indi
 
 // ---- hand-written files: decoding ---------------------------------------------------------------
 
-TEST_CASE("gltf: u8, u16 and u32 indices decode to the same triangles; non-indexed primitives too") {
+TEST_CASE("gltf: u8, u16 and u32 indices decode to the same triangles, non-indexed primitives too") {
     const std::vector<std::uint32_t> expected = {0, 1, 2, 0, 2, 3};
     for (int width : {UBYTE, USHORT, UINT, 0}) {
         CAPTURE(width);
@@ -489,7 +489,7 @@ TEST_CASE("gltf: sparse accessors substitute values, with and without a base buf
     CHECK(scene.instances.size() == 1);
 }
 
-TEST_CASE("gltf: TRIANGLE_STRIP and TRIANGLE_FAN become lists (§3.7.2.1); points and lines are skipped with a warning") {
+TEST_CASE("gltf: TRIANGLE_STRIP and TRIANGLE_FAN become lists (§3.7.2.1), points and lines are skipped with a warning") {
     GltfFile f;
     const int positions = f.data(QUAD_POSITIONS, FLOAT, "VEC3", 3);
     const int normals = f.data(QUAD_NORMALS, FLOAT, "VEC3", 3);
@@ -769,7 +769,7 @@ TEST_CASE("gltf: generated tangents: a vertex shared by preserving and mirrored 
     CHECK(prim.positionsObject[prim.indices[11]] == glm::vec3(1, 1, 0));
 }
 
-TEST_CASE("gltf: TANGENT present: kept with its w; without NORMAL, flat normals and TANGENT ignored (§3.7.2.1)") {
+TEST_CASE("gltf: TANGENT present: kept with its w, without NORMAL, flat normals and TANGENT ignored (§3.7.2.1)") {
     GltfFile f = quadFile({0, 0, 1, 0, 1, 1, 0, 1});
     const int tangents = f.data(std::vector<float>{0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, -1, 0, 1, 0, -1}, FLOAT, "VEC4", 4);
     f.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = tangents;

@@ -303,7 +303,7 @@ struct DirtyKernel {
 
 } // namespace
 
-TEST_CASE("compute: a barrier separates phases; system values follow HLSL") {
+TEST_CASE("compute: a barrier separates phases, system values follow HLSL") {
     constexpr glm::uvec3 groups(3, 2, 2);
     constexpr std::uint32_t kGroups = 12;
     std::vector<std::uint32_t> out(kGroups * RotateKernel::kThreads, 0);

@@ -314,7 +314,7 @@ std::string describeCase(const RandomTile& t, const glm::vec3& a, float b, const
 
 }  // namespace
 
-TEST_CASE("sphere culling never drops an intersecting sphere; false-positive rates (3dgep, AMD, Intel seed 004 / 2010)") {
+TEST_CASE("sphere culling never drops an intersecting sphere, false-positive rates (3dgep, AMD, Intel seed 004 / 2010)") {
     const Projections p = makeProjections();
     REQUIRE(p.projAmd[0][0] == p.proj3dgep[0][0]);
     REQUIRE(p.projIntel[1][1] == p.proj3dgep[1][1]);
@@ -365,7 +365,7 @@ TEST_CASE("sphere culling never drops an intersecting sphere; false-positive rat
     CHECK(tIntel2010.falsePositives > tIntel.falsePositives);
 }
 
-TEST_CASE("cone culling: the corrected 3dgep test never drops an intersecting cone; the faithful one does") {
+TEST_CASE("cone culling: the corrected 3dgep test never drops an intersecting cone, the faithful one does") {
     const Projections p = makeProjections();
     Pcg32 rng(77031u);
     Tally corrected{"cone 3dgep ConeInsideFrustum, corrected (m normalized)"};

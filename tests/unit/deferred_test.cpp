@@ -290,7 +290,7 @@ TEST_CASE("deferred: inscribed volumes lose light near the range that circumscri
     CHECK(outsideBand == 0);
 }
 
-TEST_CASE("deferred: the corner sample moves P off the pixel centre; the centre reconstruction matches forward's P") {
+TEST_CASE("deferred: the corner sample moves P off the pixel centre, the centre reconstruction matches forward's P") {
     // Float targets and forward's sum order, so that only P differs: P interpolated (position
     // gbuffer, = forward) against P from ScreenToView at the centre and at the corner.
     const TestScene t = makeScene(defaultLights());
@@ -310,7 +310,7 @@ TEST_CASE("deferred: the corner sample moves P off the pixel centre; the centre 
     CHECK(dk.pixelsDiffering > 4 * std::max(dc.pixelsDiffering, 1));
 }
 
-TEST_CASE("deferred-killzone: with the eye inside a point light's volume nothing is lit by it; deferred lights it") {
+TEST_CASE("deferred-killzone: with the eye inside a point light's volume nothing is lit by it, deferred lights it") {
     // The camera at (0, 3, 8) inside a point light of range 6 at (0, 2.5, 5): the count pass's
     // front faces are behind the eye (clipped), the query counts 0, the shade draw is skipped.
     const Light inside = makeLight(LightType::Point, {0.0f, 2.5f, 5.0f}, {0, 0, -1}, 6.0f, {1, 1, 1});
@@ -336,7 +336,7 @@ TEST_CASE("deferred-killzone: with the eye inside a point light's volume nothing
     CHECK(outside.variants["light:point"] == 1);
 }
 
-TEST_CASE("deferred-killzone: the threshold skips lights with few samples; samples are stored per light") {
+TEST_CASE("deferred-killzone: the threshold skips lights with few samples, samples are stored per light") {
     const TestScene t = makeScene(defaultLights());
     Rendered all, none;
     render(t, "deferred-killzone", nlohmann::json::object(), all);

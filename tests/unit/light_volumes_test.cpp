@@ -81,7 +81,7 @@ TEST_CASE("the demo's point volume: assimp MakeSphere(4) = icosahedron split 4 t
     CHECK_THROWS_AS(makeIcosphere(9), std::invalid_argument);
 }
 
-TEST_CASE("inscribed sphere volumes lose the rim; the circumscribed scale contains the unit sphere") {
+TEST_CASE("inscribed sphere volumes lose the rim, the circumscribed scale contains the unit sphere") {
     const LightVolumes volumes;
     const VolumeMesh& sphere = volumes.sphere();
     const auto inscribed = facePlanes(sphere);
@@ -138,7 +138,7 @@ TEST_CASE("the demo's spot volume: CreateCylinder(0, 1, 1, +Z) = a 256-segment c
     CHECK_THROWS_AS(makeUnitCone(2), std::invalid_argument);
 }
 
-TEST_CASE("the circumscribed cone (XY x 1/cos(pi/256)) contains the circular cone; the inscribed one does not") {
+TEST_CASE("the circumscribed cone (XY x 1/cos(pi/256)) contains the circular cone, the inscribed one does not") {
     const float radial = circumscribedConeRadialScale(kDemoConeSlices);
     CHECK(double(radial) >= 1.0 / std::cos(3.14159265358979323846 / 256.0));
     CHECK(double(radial) == doctest::Approx(1.0 / std::cos(3.14159265358979323846 / 256.0)).epsilon(1e-7));

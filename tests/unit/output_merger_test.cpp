@@ -128,7 +128,7 @@ TEST_CASE("stencil ops on both faces, with read and write masks") {
     }
 }
 
-TEST_CASE("depth write: only on pass with the write mask on; D24 stores the rounded code") {
+TEST_CASE("depth write: only on pass with the write mask on, D24 stores the rounded code") {
     DepthStencilUnit ds;
     ds.format = Format::D24_UNORM_S8_UINT;
     ds.desc.depthFunc = ComparisonFunc::Always;

@@ -170,7 +170,7 @@ TEST_CASE("ScreenToView with the GL-form projection: depth 0 is view z -2fn/(f+n
     CHECK(topLeft.y > 0.0f);
 }
 
-TEST_CASE("pixel sample points: int2(SV_Position.xy) is the pixel corner; the corrected path uses the centre") {
+TEST_CASE("pixel sample points: int2(SV_Position.xy) is the pixel corner, the corrected path uses the centre") {
     for (std::uint32_t x : {0u, 1u, 17u, 1279u})
         for (std::uint32_t y : {0u, 5u, 719u}) {
             const glm::vec2 svPosition(float(x) + 0.5f, float(y) + 0.5f);

@@ -181,7 +181,7 @@ TEST_CASE("AMD ForwardPlus11: reversed depth, 1 / (d _34 + _44), depth 0 skipped
     CHECK(empty.maxBits == 0u);
 }
 
-TEST_CASE("Intel 2010: viewZ = _43 / (z - _33), valid near <= z < far; out-of-range loads (z = 0) and the far plane") {
+TEST_CASE("Intel 2010: viewZ = _43 / (z - _33), valid near <= z < far, out-of-range loads (z = 0) and the far plane") {
     // The sample's complementary Z: SetProjParams(pi/4, aspect, 300, 0.05) = PerspectiveFovLH with
     // zn = 300, zf = 0.05 (glm::perspectiveLH_ZO(fov, aspect, 300, 0.05) has the same _33 =
     // zf / (zf - zn) and _43 = -zn zf / (zf - zn)); mCameraNearFar = (0.05, 300) ("swap near/far back").
