@@ -46,4 +46,77 @@ struct LightGeneratorSpec {
 // Only +, -, *, / and sqrt (all correctly rounded in IEEE 754), so no libm enters the result.
 std::vector<Light> generateLights(const LightGeneratorSpec& spec, const Bounds& sceneBounds);
 
+// ===== AMD ForwardPlus11's light generator (ForwardPlusUtil.cpp InitLights) ======================
+// reference-implementations.md §2.1. The demo fills MAX_NUM_LIGHTS = 2048 point lights, then 2048
+// spot lights, from the MSVC C runtime's rand() after srand(1); the GUI then uses the first N of
+// each. Every light gets the same radius, 0.075 * |half the scene AABB's diagonal|; spot lights
+// fit the maximum-volume cone in that sphere (height 4/3 r, half angle atan(sqrt(2)/2) = 35.26 deg).
+// Reproduced bit for bit, given the two things the source leaves to its compiler:
+//  - the order in which the arguments of XMFLOAT4(GetRandFloat(..), GetRandFloat(..), ..) are
+//    evaluated (C++ leaves it unspecified): CallArgumentOrder, default RightToLeft (what MSVC does
+//    on x86 and x64 for such calls [INFERRED, not guaranteed by MSVC]);
+//  - AMD::ConvertF32ToF16 (amd_sdk HelperFunctions.cpp, not in our copy of the sources): taken as
+//    the mantissa-truncating conversion, i.e. convert::floatToHalf (round toward zero) [ASSUMED].
+// DirectXMath's XMVector3Length / XMVector3Normalize are evaluated as their SSE2 paths do it:
+// sqrt((x*x + y*y) + z*z), then V / length.
+
+// The MSVC CRT's rand(): holdrand = holdrand * 214013 + 2531011 (mod 2^32), returns
+// (holdrand >> 16) & 0x7fff, RAND_MAX = 32767; srand(seed) sets holdrand = seed.
+class MsvcRand {
+public:
+    explicit MsvcRand(std::uint32_t seed = 1) : mHoldRand(seed) {}
+    std::uint32_t next();
+    // GetRandFloat(min, max) = (float)rand() / (RAND_MAX + 1) * (max - min) + min, in binary32.
+    float randFloat(float lo, float hi);
+private:
+    std::uint32_t mHoldRand;
+};
+
+enum class CallArgumentOrder : std::uint8_t { RightToLeft, LeftToRight };
+
+// One point light as the demo stores it: g_PointLightDataArrayCenterAndRadius[i] (world centre,
+// radius) and g_PointLightDataArrayColor[i] (DWORD 0xAABBGGRR of R8G8B8A8_UNORM).
+struct AmdPointLightData {
+    glm::vec4 centerAndRadius{0.0f};
+    std::uint32_t colorAbgr = 0;
+};
+
+// One spot light: bounding-sphere centre and radius, colour, and the R16G16B16A16_FLOAT spot
+// parameters (dir.x, dir.y, cos(cone) with dir.z's sign in its sign bit, falloff radius) as half
+// bits. directionWorld: the unit float direction before packing (for tessera's Light).
+struct AmdSpotLightData {
+    glm::vec4 centerAndRadius{0.0f};
+    std::uint32_t colorAbgr = 0;
+    std::uint16_t spotParams[4] = {0, 0, 0, 0};
+    glm::vec3 directionWorld{0.0f, -1.0f, 0.0f};
+};
+
+struct AmdForwardPlus11Lights {
+    std::vector<AmdPointLightData> points;
+    std::vector<AmdSpotLightData> spots;
+    float radius = 0.0f;             // fRadius = 0.075f * |0.5 (max - min)|, world units
+    float spotFalloffRadius = 0.0f;  // 1.333333333333f * fRadius
+};
+
+inline constexpr std::uint32_t kAmdForwardPlus11MaxLights = 2048;            // ForwardPlus11::MAX_NUM_LIGHTS
+inline constexpr float kAmdSpotCosCone = 0.816496580927726f;                 // cos(35.26438968 deg)
+inline constexpr float kAmdSpotHalfAngleDeg = 35.26438968f;                  // atan(sqrt(2)/2)
+
+// InitLights(BBoxMin, BBoxMax): `count` point lights, then `count` spot lights, from one MsvcRand(1)
+// stream and one colour / direction counter each (the demo's function-static uCounter, shared by
+// point and spot lights: colours alternate {R [0.9, 1], G, B [0, 1]} for odd calls and
+// {R [0, 1], G [0.27, 1], B [0, 1]} for even calls; directions negate y on even calls).
+// count = 2048 is the demo; a smaller count gives a prefix of the points, but different spots.
+AmdForwardPlus11Lights generateLightsAmdForwardPlus11(const Bounds& sceneBounds,
+                                                      std::uint32_t count = kAmdForwardPlus11MaxLights,
+                                                      CallArgumentOrder order = CallArgumentOrder::RightToLeft);
+
+// The first numPoint point and numSpot spot lights as tessera Lights (the demo's GUI picks the
+// first N of each): colour = the UNORM codes / 255, intensity 1, point range = radius; spot
+// position = centre - radius * direction (the apex, as the shader rebuilds it), range = the
+// falloff radius, half angle kAmdSpotHalfAngleDeg. Throws std::invalid_argument if a count
+// exceeds what `lights` holds.
+std::vector<Light> lightsFromAmdForwardPlus11(const AmdForwardPlus11Lights& lights, std::uint32_t numPoint,
+                                              std::uint32_t numSpot);
+
 } // namespace tessera

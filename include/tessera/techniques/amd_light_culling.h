@@ -1,0 +1,87 @@
+// AMD Forward+ light culling on the CPU: GPU Pro 4's gather kernel (seed 002 §2) over 8x8 tiles,
+// one thread group per tile, with the two-level light list (a group-shared list of
+// LIGHT_CAPACITY = 256, then one global index pool with per-tile offsets), optional 2.5D culling
+// (seed 002 §6, math/depth_mask.h), run through compute/dispatch.h. Input: a depth buffer and the
+// lights' bounding spheres in AMD's left-handed view space; output: the pool and per-tile ranges
+// the forward-plus-amd shading pass reads. Caller: the forward-plus-amd technique and its tests.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <tessera/compute/dispatch.h>
+#include <tessera/math/tile_depth_range.h>
+#include <tessera/math/tile_frustum.h>
+
+namespace tessera {
+
+inline constexpr std::uint32_t kAmdTileSizePx = 8;       // seed 002 §2.1: 8x8 px tiles, 64 threads a group
+inline constexpr std::uint32_t kAmdLightCapacity = 256;  // seed 002 §2.5: LIGHT_CAPACITY, group-shared list entries
+
+// How the tile's depth range is read from the depth buffer (math/tile_depth_range.h).
+enum class AmdDepthConvention : std::uint8_t {
+    GpuPro4,        // seed 002 §2.3: depth cleared to 1.0 (skipped), z = projToView(depth).z; edge
+                    // threads load 0 and add the near plane to the minimum (tileViewZBitsAmdGpuPro4)
+    ForwardPlus11,  // ForwardPlus11: reversed depth cleared to 0 (skipped), z = 1 / (d _34 + _44)
+                    // (tileViewZBitsAmdForwardPlus11)
+};
+
+enum class AmdDepthCulling : std::uint8_t {
+    MinMax,       // seed 002 §2.4: side planes + the tile's [minZ, maxZ] slab
+    DepthMask25D, // + seed 002 §6: the light's depth mask must share a cell with the tile's
+};
+
+struct AmdCullingOptions {
+    AmdDepthConvention depthConvention = AmdDepthConvention::GpuPro4;
+    AmdDepthCulling depthCulling = AmdDepthCulling::MinMax;
+    AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (seed 002's reading)
+    compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (OrderedCounter)
+};
+
+// The kernel's outputs. Tile t = gx + gy * tileCount.x (seed 002 §2.5 (d), [INFERRED]).
+// Pool layout: tiles in row-major order, each tile's lights in ascending light index (the
+// deterministic order tessera fixes for the GPU's atomics, SPEC.md "Compute"); a tile with no
+// lights reserves nothing and keeps offset 0, as the document's write-back does.
+struct AmdTileLightLists {
+    glm::uvec2 tileCount{0u};                    // tiles per axis: ceil(screen / 8)
+    std::vector<std::uint32_t> lightIndices;     // gLightIdx, gLightIdxCounter entries
+    std::vector<std::uint32_t> tileOffset;       // ptLowerBound[t]: first entry of tile t in the pool
+    std::vector<std::uint32_t> tileLightCount;   // entries of tile t: min(found, 256). The document
+                                                 // stores only the lower bound (seed 002 §2.5 (b));
+                                                 // GetTileOffsets needs this end.
+    std::vector<std::uint32_t> tileFoundCount;   // ldsLightIdxCounter: lights that passed, unclamped
+    std::vector<std::uint32_t> tileMinZBits;     // ldsZMin, ldsZMax (asuint of LH view z)
+    std::vector<std::uint32_t> tileMaxZBits;
+    std::vector<std::uint32_t> tileDepthMask;    // the 2.5D mask (0 when MinMax)
+    std::uint32_t overflowTiles = 0;             // tiles that found more than 256 lights
+    std::uint64_t droppedLights = 0;             // lights lost to the 256 cap, summed over tiles
+
+    std::span<const std::uint32_t> tileLights(std::uint32_t tileIndex) const {
+        return std::span<const std::uint32_t>(lightIndices).subspan(tileOffset[tileIndex], tileLightCount[tileIndex]);
+    }
+};
+
+// Runs the culling dispatch (tileCount.x x tileCount.y groups of 8x8 threads):
+//   1. thread 0 initialises ldsZMin = 0xffffffff (GpuPro4) / 0x7f7fffff (ForwardPlus11),
+//      ldsZMax = 0, the mask and the counter; barrier
+//   2. every thread loads its pixel, and unless it is the cleared value does InterlockedMin /
+//      InterlockedMax(asuint(view z)); barrier
+//   3. (2.5D) every such thread ORs 1 << cell(z) into the tile mask; barrier
+//   4. lights strided over the 64 threads (light i on thread i % 64, ascending i): side planes
+//      and slab (sphereOverlapsTileAmd), (2.5D) the mask AND; appendLightToList: InterlockedAdd
+//      on the shared counter, store if the slot is < 256; barrier
+//   5. thread 0: count = min(counter, 256) (the clamp seed 002 §2.5 (c) requires: the printed
+//      write-back copies `counter` entries and reads past the shared list above 256); if
+//      count != 0 reserve `count` entries of the global pool (InterlockedAdd in row-major group
+//      order, compute::OrderedCounter); ptLowerBound[t] = start; barrier
+//   6. the 64 threads copy the shared list into the pool (for i = lIdx; i < count; i += 64).
+// lightsViewLh: per light (centre x, y, z in AMD's left-handed view space, radius) — the kernel's
+// `mul(float4(center.xyz, 1), g_mView)` done once by the caller. inverseProjection: glm matrix of
+// the D3D projection's inverse (clipToView). Throws std::invalid_argument for an empty screen.
+AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+                               const glm::mat4& inverseProjection, const AmdCullingOptions& options = {});
+
+}  // namespace tessera
