@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <set>
 #include <utility>
 
@@ -38,6 +39,34 @@ template <class T>
 Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
     const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
     return any ? color * texel : texel;
+}
+
+inline std::uint32_t loadUint32(const std::byte* base, std::size_t element) {
+    std::uint32_t value;
+    std::memcpy(&value, base + element * sizeof(std::uint32_t), sizeof(value));
+    return value;
+}
+
+// The Forward+ PS_main light loop over the pixel's tile list (TileLightList; the light grid
+// read with out-of-bounds Load = 0, the index list with out-of-bounds reads = 0).
+template <class T>
+LightingResult<T> doLightingTile(const PhongShaderData<T>& d, const glm::vec4& posWindow, T specularPower,
+                                 const Vec4<T>& posView, const Vec4<T>& normalView) {
+    const TileLightList& list = *d.tileLights;
+    const float blockSize = float(list.tileSizePx);
+    const auto tileX = std::uint32_t(std::floor(posWindow.x / blockSize));
+    const auto tileY = std::uint32_t(std::floor(posWindow.y / blockSize));
+    std::uint32_t startOffset = 0, lightCount = 0;
+    if (tileX < list.gridWidth && tileY < list.gridHeight) {
+        const std::size_t texel = std::size_t(tileY) * list.gridWidth + tileX;
+        startOffset = loadUint32(list.grid, texel * 2);
+        lightCount = loadUint32(list.grid, texel * 2 + 1);
+    }
+    const auto lightIndexAt = [&](std::uint32_t i) {
+        const std::uint32_t at = startOffset + i;  // uint arithmetic, wraps as in HLSL
+        return at < list.indexCount ? loadUint32(list.indices, at) : 0u;
+    };
+    return doLightingListed<T>(d.lights, lightCount, lightIndexAt, specularPower, posView, normalView, specularPower > T(1));
 }
 
 template <class T, std::uint32_t F>
@@ -97,7 +126,8 @@ bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in
     if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
 
     const Vec4<T> posView(Vec3<T>(v.posView), T(1));
-    const LightingResult<T> lit = doLighting<T>(d.lights, specularPower, posView, normalView, specularPower > T(1));
+    const LightingResult<T> lit = d.tileLights ? doLightingTile<T>(d, in.posWindow, specularPower, posView, normalView)
+                                               : doLighting<T>(d.lights, specularPower, posView, normalView, specularPower > T(1));
 
     diffuse *= Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
     Vec4<T> specular(T(0));

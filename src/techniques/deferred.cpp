@@ -577,7 +577,6 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     std::vector<std::string> gbufferWrites = gbufferTargets;
     gbufferWrites.emplace_back("depth");
     frame.add({"gbuffer", gbufferWrites, gbufferWrites, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
-                   const ForwardPassSetup& fwd = *setup->forward;
                    const DeferredOptions& o = setup->options;
                    RenderTargets rt;
                    rt.colors[0] = &reg.get(setup->accumulationName);
@@ -586,39 +585,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    rt.colors[3] = &reg.get("gbuffer.normal");
                    if (o.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
                    rt.depthStencil = &reg.get("depth");
-                   for (const DrawItem& item : res->drawItems()) {
-                       const PhongMaterial material = phongFromGltf(res->material(item.material));
-                       if (material.isTransparent()) continue;  // OpaquePass
-                       // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque
-                       // pass, with its glTF additions: doubleSided culls none, mirrored transforms).
-                       DrawState st = makeDrawState(kDeferredGBufferPass,
-                                                    Viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f});
-                       st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-                       st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-                       const glm::mat4 viewFromObject = fwd.viewFromWorld * item.worldFromObject;
-                       const PhongVS vs{fwd.clipFromView * viewFromObject, viewFromObject};
-                       const PrimitiveBuffer& prim = res->primitives()[item.primitive];
-                       const PhongShaderData<float> data =
-                           makePhongShaderData<float>(material, *fwd.textures, std::span<const ViewLight<float>>());
-                       const GatherVariant variant = selectGather(phongFeatures(material, true));
-                       if (variantCounts) ++(*variantCounts)[variant.name];
-                       const std::span<const SceneVertex> vertices(prim.vertices);
-                       const auto run = [&](auto ps) {
-                           ps.gather = variant.fn;
-                           ps.data = &data;
-                           ps.floatTargets = o.floatTargets;
-                           ps.forwardAlpha = o.accumulateLighting;
-                           DrawStats s = device->draw(st, rt, vertices, prim.indices, vs, ps);
-                           if (stats) *stats += s;
-                       };
-                       if (o.positionFromGBuffer) {
-                           if (variant.mayDiscard) run(GBufferPS<true, 5>{});
-                           else run(GBufferPS<false, 5>{});
-                       } else {
-                           if (variant.mayDiscard) run(GBufferPS<true, 4>{});
-                           else run(GBufferPS<false, 4>{});
-                       }
-                   }
+                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, o.floatTargets, o.accumulateLighting, stats,
+                                       variantCounts);
                }});
 
     // CopyTexturePass(depthStencilBuffer, depthStencilTexture): the lighting PS's DepthTextureVS.
@@ -694,6 +662,44 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 }
 
 } // namespace
+
+void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const SceneResources& res, const RenderTargets& rt,
+                         bool floatTargets, bool forwardAlpha, DrawStats* stats,
+                         std::map<std::string, std::uint64_t>* variantCounts) {
+    const bool positionTarget = rt.colors[4] != nullptr;
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;  // OpaquePass
+        // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque
+        // pass, with its glTF additions: doubleSided culls none, mirrored transforms).
+        DrawState st = makeDrawState(kDeferredGBufferPass, Viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f});
+        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        const glm::mat4 viewFromObject = fwd.viewFromWorld * item.worldFromObject;
+        const PhongVS vs{fwd.clipFromView * viewFromObject, viewFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const PhongShaderData<float> data =
+            makePhongShaderData<float>(material, *fwd.textures, std::span<const ViewLight<float>>());
+        const GatherVariant variant = selectGather(phongFeatures(material, true));
+        if (variantCounts) ++(*variantCounts)[variant.name];
+        const std::span<const SceneVertex> vertices(prim.vertices);
+        const auto run = [&](auto ps) {
+            ps.gather = variant.fn;
+            ps.data = &data;
+            ps.floatTargets = floatTargets;
+            ps.forwardAlpha = forwardAlpha;
+            DrawStats s = device.draw(st, rt, vertices, prim.indices, vs, ps);
+            if (stats) *stats += s;
+        };
+        if (positionTarget) {
+            if (variant.mayDiscard) run(GBufferPS<true, 5>{});
+            else run(GBufferPS<false, 5>{});
+        } else {
+            if (variant.mayDiscard) run(GBufferPS<true, 4>{});
+            else run(GBufferPS<false, 4>{});
+        }
+    }
+}
 
 Frame buildDeferred(const TechniqueContext& context) { return buildDeferredFrame(context, Method::Dgep); }
 

@@ -27,11 +27,12 @@ constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Bl
 template <class T, int kTargets>
 void drawItem(Device& device, const DrawState& state, const RenderTargets& targets, const PrimitiveBuffer& prim,
               const PhongVS& vs, const PhongMaterial& material, const ForwardPassSetup& setup, DrawStats* stats,
-              std::map<std::string, std::uint64_t>* variantCounts) {
+              std::map<std::string, std::uint64_t>* variantCounts, const TileLightList* tileLights) {
     std::span<const ViewLight<T>> lights;
     if constexpr (std::is_same_v<T, float>) lights = setup.lightsExact;
     else lights = setup.lightsReference;
-    const PhongShaderData<T> data = makePhongShaderData<T>(material, *setup.textures, lights);
+    PhongShaderData<T> data = makePhongShaderData<T>(material, *setup.textures, lights);
+    data.tileLights = tileLights;
     const PhongVariant variant = selectPhongVariant<T>(phongFeatures(material, setup.alphaTest));
     PhongShadeFn<T> shade;
     if constexpr (std::is_same_v<T, float>) shade = variant.exact;
@@ -89,7 +90,8 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
 }
 
 void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, const RenderTargets& rt,
-                     bool transparentPass, DrawStats* stats, std::map<std::string, std::uint64_t>* variantCounts) {
+                     bool transparentPass, DrawStats* stats, std::map<std::string, std::uint64_t>* variantCounts,
+                     const ForwardPassOverrides& overrides) {
     const bool reference = setup.precision == Precision::Reference;
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
@@ -97,6 +99,7 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         DrawState st;
         st.viewport = Viewport{0.0f, 0.0f, float(setup.width), float(setup.height), 0.0f, 1.0f};
         st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        st.depthStencil.depthFunc = overrides.depthFunc;
         if (transparentPass) {
             // g_pTransparentPipeline: alpha blending, depth test LESS with writes off, cull none.
             st.rasterizer.cullMode = CullMode::None;
@@ -111,9 +114,9 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         if (reference)
-            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts);
+            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts, nullptr);
         else
-            drawItem<float, 1>(device, st, rt, prim, vs, material, setup, stats, variantCounts);
+            drawItem<float, 1>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
     }
 }
 

@@ -8,7 +8,9 @@
 #include <tessera/io/input_error.h>
 #include <tessera/techniques/deferred.h>
 #include <tessera/techniques/forward.h>
+#include <tessera/techniques/forward_plus.h>
 #include <tessera/techniques/preview.h>
+#include <tessera/techniques/tiled_deferred.h>
 
 namespace tessera {
 namespace {
@@ -24,10 +26,11 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      &buildDeferred, kDeferredOptionKeys, TexturePolicy::AllLinear},
     {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (seed 000)",
      &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear},
-    {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid", "3dgep (seed 000)", nullptr,
-     kNoOptions},
+    {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid", "3dgep (seed 000)",
+     &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear},
     {"forward-plus-amd", "AMD Forward+ with 2.5D culling", "GPU Pro 4 (seed 002)", nullptr, kNoOptions},
-    {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel (seed 004)", nullptr, kNoOptions},
+    {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel (seed 004)", &buildTiledDeferred,
+     kTiledDeferredOptionKeys, TexturePolicy::AllLinear},
     {"deferred-cookbook", "HLSL Development Cookbook deferred lighting", "seed 001", nullptr, kNoOptions},
     {"deferred-classic", "classic deferred shading", "seed 003", nullptr, kNoOptions},
     {"light-prepass", "light pre-pass (deferred lighting)", "seed 003", nullptr, kNoOptions},

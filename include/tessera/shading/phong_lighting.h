@@ -185,9 +185,26 @@ LightingResult<T> doDirectionalLight(const ViewLight<T>& light, T specularPower,
     return result;
 }
 
-// DoLighting: V = normalize(eye - P) with eye = (0,0,0,1); lights in span order; skips disabled
-// lights and non-directional lights with length(PositionVS - P) > Range (strict: a pixel exactly
-// at Range is shaded, and gets attenuation 0). Sums Diffuse and Specular in light order.
+// One light of DoLighting's loop: skips a disabled light and a non-directional light with
+// length(PositionVS - P) > Range (strict: a pixel exactly at Range is shaded, and gets
+// attenuation 0), otherwise adds its Diffuse and Specular to `total`.
+template <class T>
+void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
+                     const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular) {
+    if (!light.enabled) return;
+    if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) return;
+    LightingResult<T> result;
+    switch (light.type) {
+    case LightType::Directional: result = doDirectionalLight(light, specularPower, viewDirView, normalView, withSpecular); break;
+    case LightType::Point: result = doPointLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+    case LightType::Spot: result = doSpotLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+    }
+    total.diffuse += result.diffuse;
+    total.specular += result.specular;
+}
+
+// DoLighting: V = normalize(eye - P) with eye = (0,0,0,1); lights in span order through
+// accumulateLight (the skips above). Sums Diffuse and Specular in light order.
 // withSpecular = false leaves Specular at 0 without evaluating it: the pixel shaders pass
 // SpecularPower > 1, since they ignore lit.Specular otherwise (the image is the same bits).
 template <class T>
@@ -196,17 +213,28 @@ LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPow
     const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
     const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
     LightingResult<T> total;
-    for (const ViewLight<T>& light : lights) {
-        if (!light.enabled) continue;
-        if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) continue;
-        LightingResult<T> result;
-        switch (light.type) {
-        case LightType::Directional: result = doDirectionalLight(light, specularPower, viewDirView, normalView, withSpecular); break;
-        case LightType::Point: result = doPointLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
-        case LightType::Spot: result = doSpotLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
-        }
-        total.diffuse += result.diffuse;
-        total.specular += result.specular;
+    for (const ViewLight<T>& light : lights) accumulateLight(total, light, specularPower, viewDirView, posView, normalView, withSpecular);
+    return total;
+}
+
+// The Forward+ PS loop (the demo's ForwardPlusRendering.hlsl PS_main; seed 000 §6 "Forward+
+// final shading"): `for (i = 0; i < lightCount; i++) light = Lights[LightIndexList[startOffset
+// + i]]` with DoLighting's skips and sums. lightIndexAt(i) is LightIndexList[startOffset + i]
+// as the PS loads it; an index past the light list reads a zeroed Light (D3D11 out-of-bounds
+// StructuredBuffer load: 0), whose Enabled is false, so it is skipped. If the list is in
+// ascending light index and every light it omits is skipped by doLighting or adds exactly +-0
+// there (x + 0 == x, and the sums start at +0 so never hold -0), the result equals doLighting's
+// bit for bit (the Forward+ == forward invariant, tests/golden/forward_plus_scenes_test.cpp).
+template <class T, class IndexFn>
+LightingResult<T> doLightingListed(std::span<const ViewLight<T>> lights, std::uint32_t lightCount, IndexFn&& lightIndexAt,
+                                   T specularPower, const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
+    const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
+    const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
+    LightingResult<T> total;
+    for (std::uint32_t i = 0; i < lightCount; ++i) {
+        const std::uint32_t index = lightIndexAt(i);
+        if (index >= lights.size()) continue;
+        accumulateLight(total, lights[index], specularPower, viewDirView, posView, normalView, withSpecular);
     }
     return total;
 }

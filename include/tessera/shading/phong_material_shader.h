@@ -4,6 +4,7 @@
 // a dispatcher picks the instantiation per material at run time and names it for --stats.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -115,6 +116,20 @@ std::uint32_t phongFeatures(const PhongMaterial& material, bool alphaTest);
 inline constexpr std::uint32_t kPhongSpecializedAxes =
     kPhongAmbientTexture | kPhongEmissiveTexture | kPhongDiffuseTexture | kPhongNormalMap | kPhongAlphaTest;
 
+// The Forward+ light grid and light index list one pass binds (seed 000 §6; the demo's
+// ForwardPlusRendering.hlsl PS_main: `Texture2D<uint2> LightGrid : t10`, `StructuredBuffer<uint>
+// LightIndexList : t9`), read as the PS does: tileIndex = uint2(floor(SV_Position.xy /
+// BLOCK_SIZE)); (startOffset, lightCount) = LightGrid[tileIndex] (0 outside the grid: D3D11
+// out-of-bounds Load); lightIndex = LightIndexList[startOffset + i] (0 past the end). The bytes
+// are the named buffers' (R32G32_UINT grid, R32_UINT list; techniques/forward_plus.h).
+struct TileLightList {
+    const std::byte* grid = nullptr;          // gridWidth x gridHeight texels of (offset, count)
+    std::uint32_t gridWidth = 0, gridHeight = 0;  // tiles
+    const std::byte* indices = nullptr;       // indexCount uint32 light indices
+    std::uint32_t indexCount = 0;             // entries (the buffer's element count)
+    std::uint32_t tileSizePx = 16;            // BLOCK_SIZE, px
+};
+
 // Everything the pixel shader reads for one draw: the Material constant buffer in T, the bound
 // textures and the view-space lights (seed 000 §2 Material, Light).
 template <class T>
@@ -125,6 +140,8 @@ struct PhongShaderData {
     BoundTexture ambientTexture, emissiveTexture, diffuseTexture, specularTexture, specularPowerTexture, normalTexture,
         bumpTexture, opacityTexture;
     std::span<const ViewLight<T>> lights;
+    // Forward+: loop over this tile list instead of every light (null: every light, forward).
+    const TileLightList* tileLights = nullptr;
 };
 
 // Returns false when the pixel is discarded; otherwise `color` is PS_main's return value.

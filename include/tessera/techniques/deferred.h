@@ -6,6 +6,8 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
+#include <string>
 #include <string_view>
 
 #include <tessera/techniques/technique.h>
@@ -70,6 +72,17 @@ inline constexpr std::array<std::string_view, 10> kKillzoneOptionKeys{
 // InputErrors naming "/precision".
 Frame buildDeferred(const TechniqueContext& context);
 Frame buildDeferredKillzone(const TechniqueContext& context);
+
+struct ForwardPassSetup;
+
+// The G-buffer pass (PS_Geometry over the opaque draw items, g_pGeometryPipeline: depth LESS with
+// writes, cull back) as a building block, also used by tiled-deferred. Targets: colors[0] RT0
+// (ambient + emissive, with a = alpha * Opacity when forwardAlpha), colors[1] diffuse, colors[2] specular (a = log2(p) / 10.5, or p itself when
+// floatTargets), colors[3] view normal, colors[4] (optional, non-null) (posView, 1); the
+// depth-stencil target. Formats are the caller's (see "gbuffer" above).
+void drawDeferredGBuffer(const ForwardPassSetup& forward, Device& device, const SceneResources& resources,
+                         const RenderTargets& targets, bool floatTargets, bool forwardAlpha, DrawStats* stats,
+                         std::map<std::string, std::uint64_t>* variantCounts);
 
 // "killzone.samples" value of a light that has no count query.
 inline constexpr std::uint32_t kKillzoneNotCounted = 0xFFFFFFFFu;

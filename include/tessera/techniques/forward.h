@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include <tessera/shading/phong_material_shader.h>
+#include <tessera/state/comparison.h>
 #include <tessera/techniques/technique.h>
 
 namespace tessera {
@@ -64,6 +65,14 @@ struct ForwardPassSetup {
 std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& context, ProjectionConvention projection,
                                                        PhongSamplerChoice sampler, bool alphaTest);
 
+// What Forward+ (forward_plus.h) changes in forward's passes: the depth test (its opaque pass
+// runs after a depth pre-pass with LESS_EQUAL, its transparent pass LESS_EQUAL too) and the
+// light loop (the pass's tile list instead of every light). The defaults are forward's.
+struct ForwardPassOverrides {
+    ComparisonFunc depthFunc = ComparisonFunc::Less;
+    const TileLightList* tileLights = nullptr;  // exact precision only
+};
+
 // The demo's OpaquePass (g_pOpaquePipeline: depth LESS with writes, cull back; glTF doubleSided
 // culls none) or TransparentPass (g_pTransparentPipeline: SrcAlpha / InvSrcAlpha, depth LESS
 // without writes, cull none) over the scene's draw items in order, through the Phong PS.
@@ -71,6 +80,6 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
 // the depth-stencil buffer.
 void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneResources& resources,
                      const RenderTargets& targets, bool transparentPass, DrawStats* stats,
-                     std::map<std::string, std::uint64_t>* variantCounts);
+                     std::map<std::string, std::uint64_t>* variantCounts, const ForwardPassOverrides& overrides = {});
 
 } // namespace tessera

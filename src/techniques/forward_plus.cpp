@@ -1,0 +1,634 @@
+// The `forward-plus` technique (seed 000 §6; the demo's g_ForwardPlusTechnique in main.cpp and
+// ForwardPlusRendering.hlsl): clear -> depth pre-pass -> CS_ComputeFrustums -> CS_main (light
+// culling, emulated with compute::dispatch) -> opaque pass -> transparent pass, the last two
+// through forward's passes with the tile's light list (forward.h ForwardPassOverrides).
+#include <tessera/techniques/forward_plus.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <tessera/compute/dispatch.h>
+#include <tessera/compute/ordered_counter.h>
+#include <tessera/io/input_error.h>
+#include <tessera/math/det_math.h>
+#include <tessera/math/frustum.h>
+#include <tessera/math/tile_depth_range.h>
+#include <tessera/math/tile_frustum.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique_options.h>
+
+namespace tessera {
+namespace {
+
+// The demo's clear: cornflower blue, depth 1, stencil 0 (main.cpp g_ClearColor).
+constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
+constexpr std::uint32_t kMaxSurfaceEdge = 16384;  // D3D11_REQ_TEXTURE2D_U_OR_V_DIMENSION, texels
+// LightCountHeatMap's u = o_LightCount / 50.0f (ForwardPlusRendering.hlsl CS_main).
+constexpr float kHeatMapFullScale = 50.0f;  // lights at the gradient's end
+
+struct ForwardPlusOptions {
+    ProjectionConvention projection = ProjectionConvention::DemoGl;
+    PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
+    bool alphaTest = false;
+    bool unbounded = false;      // "lightLists": "unbounded"
+    bool coneCorrected = false;  // "coneTest": "corrected"
+    bool brute = false;          // "culling": "brute"
+    std::uint32_t tileSizePx = 16;
+};
+
+ForwardPlusOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
+    ForwardPlusOptions o;
+    o.projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file) == "d3d"
+                       ? ProjectionConvention::D3d
+                       : ProjectionConvention::DemoGl;
+    o.sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
+                                                                                               : PhongSamplerChoice::Demo;
+    o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
+    o.unbounded = optionEnum(ctx.options, "lightLists", {"demo", "unbounded"}, "demo", file) == "unbounded";
+    o.coneCorrected = optionEnum(ctx.options, "coneTest", {"demo", "corrected"}, "demo", file) == "corrected";
+    o.brute = optionEnum(ctx.options, "culling", {"binned", "brute"}, "binned", file) == "brute";
+    if (ctx.options.is_object() && ctx.options.contains("tileSize")) {
+        const nlohmann::json& v = ctx.options["tileSize"];
+        if (!v.is_number_integer() || (v.get<std::int64_t>() != 8 && v.get<std::int64_t>() != 16 && v.get<std::int64_t>() != 32))
+            throw inputError(file, "/options/tileSize", "expected 8, 16 or 32 (tile edge in px)");
+        o.tileSizePx = static_cast<std::uint32_t>(v.get<std::int64_t>());
+    }
+    return o;
+}
+
+// ----- Light-list storage shared by the passes of one frame --------------------------------------
+
+// What the culling pass hands the shading passes (besides the named buffers themselves).
+struct ForwardPlusState {
+    ForwardPlusOptions options;
+    std::shared_ptr<ForwardPassSetup> setup;
+    glm::uvec2 tiles{0};               // tilesX, tilesY
+    glm::mat4 inverseProjection{1.0f};  // ScreenToViewParams.InverseProjection = inverse(projection)
+    glm::vec2 screenDimensions{0.0f};   // ScreenToViewParams.ScreenDimensions, px
+    TileLightList opaqueList, transparentList;  // bound by the opaque / transparent passes
+};
+
+void storeUint32(std::byte* base, std::size_t element, std::uint32_t value) {
+    std::memcpy(base + element * sizeof(std::uint32_t), &value, sizeof(value));
+}
+
+// A flat R32_UINT list of `capacity` entries as a surface: W = min(capacity, 16384) per row.
+SurfaceDesc indexListDesc(std::uint64_t capacity) {
+    const std::uint64_t entries = std::max<std::uint64_t>(capacity, 1);
+    const std::uint64_t width = std::min<std::uint64_t>(entries, kMaxSurfaceEdge);
+    const std::uint64_t height = (entries + width - 1) / width;
+    if (height > kMaxSurfaceEdge)
+        throw std::runtime_error("forward-plus: a light index list of " + std::to_string(capacity) +
+                                 " entries exceeds a 16384 x 16384 R32_UINT buffer");
+    return {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), Format::R32_UINT, 1};
+}
+
+// ----- CS_ComputeFrustums (seed 000 §6) ----------------------------------------------------------
+// One thread per tile, BLOCK_SIZE x BLOCK_SIZE threads per group, ceil(tiles / BLOCK_SIZE) groups;
+// threads past numThreads (= tiles) write nothing.
+template <std::uint32_t kBlock>
+struct ComputeFrustumsKernel {
+    static constexpr glm::uvec3 groupSize{kBlock, kBlock, 1};
+    using Shared = compute::NoShared;
+    glm::uvec2 numThreads{0};  // DispatchParams.numThreads: tiles per axis
+    glm::vec2 screenDimensions{0.0f};
+    glm::mat4 inverseProjection{1.0f};
+    Frustum* outFrustums = nullptr;  // RWStructuredBuffer<Frustum> out_Frustums, x + y * numThreads.x
+    void operator()(compute::GroupContext<Shared>& g) const {
+        g.forEachThread([&](const compute::ThreadIds& t) {
+            if (t.dispatchThreadId.x < numThreads.x && t.dispatchThreadId.y < numThreads.y) {
+                const std::size_t index = t.dispatchThreadId.x + std::size_t{t.dispatchThreadId.y} * numThreads.x;
+                outFrustums[index] = gridFrustum3dgep(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection);
+            }
+        });
+    }
+};
+
+// ----- Tessera's binning pre-pass (not in the demo) ---------------------------------------------
+// For each light, the tile columns [x0, x1] and rows [y0, y1] outside which the kernel's test
+// cannot pass, found by binary search with a padded sphere test against the column and row
+// planes. Conservative: the side planes of every tile in a column are the same plane through the
+// eye and a vertical screen line (rows: a horizontal one), computed with float rounding that
+// differs per tile by far less than the padding (relative 2^-10 of |c| + r; the float planes
+// are accurate to ~1e-5 relative even for 8 px tiles, where the two corner rays that make a
+// plane are 1e-3 rad apart), so a light the padded test puts outside a column fails the
+// kernel's test on every tile of it. A spot light is bounded by the sphere around its cone (tip
+// and base disc), which contains both points the article's ConeInsidePlane tests (T, and Q in the
+// base disc since m is perpendicular to d and |m| <= 1). Non-finite values never exclude.
+struct LightTileRect {
+    std::uint32_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1 or y0 > y1
+};
+
+struct BinnedLight {
+    std::uint32_t light;   // index in the scene's light list
+    std::uint32_t x0, x1;  // tile columns, inclusive
+};
+
+constexpr double kBinningPadRelative = 1.0 / 1024.0;  // of |c| + r, view units
+
+struct BoundingSphere {
+    glm::dvec3 c{0.0};
+    double r = 0.0;
+    double pad = 0.0;
+};
+
+// The padded "sphere wholly in the negative half-space" (plane.h sphereInsidePlane), in double.
+bool paddedInside(const BoundingSphere& s, const Plane& plane) {
+    const double distance = (double(plane.N.x) * s.c.x + double(plane.N.y) * s.c.y) + double(plane.N.z) * s.c.z - double(plane.d);
+    return distance < -(s.r + s.pad);
+}
+
+// First index in [0, n) where pred is true (n when none), pred assumed false...true.
+template <class Pred>
+std::uint32_t firstTrue(std::uint32_t n, Pred&& pred) {
+    std::uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        if (pred(mid)) hi = mid;
+        else lo = mid + 1;
+    }
+    return lo;
+}
+
+LightTileRect lightTileRect(const ViewLight<float>& light, const std::vector<Frustum>& frustums, glm::uvec2 tiles,
+                            float nearClipVS) {
+    LightTileRect rect;
+    if (!light.enabled) return rect;
+    const LightTileRect all{0, tiles.x - 1, 0, tiles.y - 1};
+    if (light.type == LightType::Directional) return all;
+    BoundingSphere s;
+    const glm::dvec3 position(light.positionView.x, light.positionView.y, light.positionView.z);
+    if (light.type == LightType::Point) {
+        s.c = position;
+        s.r = double(light.range);
+    } else {
+        const double h = double(light.range);
+        const double baseRadius = double(detTan(hlsl::radians(light.spotlightAngleDeg))) * h;  // as CS_main's coneRadius
+        const glm::dvec3 d(light.directionView.x, light.directionView.y, light.directionView.z);
+        s.c = position + d * (h * 0.5);
+        s.r = std::sqrt(h * h * 0.25 + baseRadius * baseRadius) * std::max(1.0, glm::length(d));
+    }
+    s.pad = kBinningPadRelative * (glm::length(s.c) + std::abs(s.r)) + 1e-6;
+    if (s.c.z - s.r > double(nearClipVS) + s.pad) return rect;  // wholly behind the near clip plane
+    const auto plane = [&](std::uint32_t tx, std::uint32_t ty, int i) -> const Plane& {
+        return frustums[tx + std::size_t{ty} * tiles.x].planes[std::size_t(i)];
+    };
+    // Columns: inside(right plane of tx) holds for tx left of the sphere; inside(left plane) for
+    // tx right of it. Rows: inside(bottom plane of ty) above the sphere, inside(top) below it.
+    rect.x0 = firstTrue(tiles.x, [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 1)); });
+    const std::uint32_t xEnd = firstTrue(tiles.x, [&](std::uint32_t tx) { return paddedInside(s, plane(tx, 0, 0)); });
+    rect.y0 = firstTrue(tiles.y, [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 3)); });
+    const std::uint32_t yEnd = firstTrue(tiles.y, [&](std::uint32_t ty) { return paddedInside(s, plane(0, ty, 2)); });
+    if (xEnd == 0 || yEnd == 0) return LightTileRect{};
+    rect.x1 = xEnd - 1;
+    rect.y1 = yEnd - 1;
+    return rect;
+}
+
+// ----- CS_main: the light culling (seed 000 §6 and §10, reference-implementations.md §1.7) --------
+
+struct CullShared {
+    std::uint32_t uMinDepth, uMaxDepth;  // groupshared, asuint of the depth-buffer values
+    Frustum groupFrustum;                // groupshared Frustum GroupFrustum
+    std::uint32_t oLightCount, oLightIndexStartOffset;
+    std::uint32_t tLightCount, tLightIndexStartOffset;
+    float minDepthVS, maxDepthVS, nearClipVS;  // per-thread uniform values in the HLSL
+};
+
+struct OverflowTally {
+    std::atomic<std::uint64_t> tilesOverLocal{0}, droppedLocal{0}, tilesOverGlobal{0}, droppedGlobal{0};
+    std::atomic<std::uint32_t> maxTileCount{0}, nonEmptyTiles{0};
+
+    void add(std::uint32_t count, std::uint32_t localCapacity, std::uint32_t offset, std::uint64_t globalCapacity) {
+        if (count > localCapacity) {
+            tilesOverLocal.fetch_add(1, std::memory_order_relaxed);
+            droppedLocal.fetch_add(count - localCapacity, std::memory_order_relaxed);
+        }
+        const std::uint64_t end = std::uint64_t{offset} + count;
+        if (count > 0 && end > globalCapacity) {
+            tilesOverGlobal.fetch_add(1, std::memory_order_relaxed);
+            droppedGlobal.fetch_add(std::min<std::uint64_t>(count, end - std::max<std::uint64_t>(globalCapacity, offset)),
+                                    std::memory_order_relaxed);
+        }
+        std::uint32_t seen = maxTileCount.load(std::memory_order_relaxed);
+        while (count > seen && !maxTileCount.compare_exchange_weak(seen, count, std::memory_order_relaxed)) {}
+        if (count > 0) nonEmptyTiles.fetch_add(1, std::memory_order_relaxed);
+    }
+    LightListCounters counters(std::uint32_t requested, std::uint64_t capacity) const {
+        const auto clamp32 = [](std::uint64_t v) { return static_cast<std::uint32_t>(std::min<std::uint64_t>(v, 0xFFFFFFFFu)); };
+        return {requested,         clamp32(capacity),
+                clamp32(tilesOverLocal.load()), clamp32(droppedLocal.load()),
+                clamp32(tilesOverGlobal.load()), clamp32(droppedGlobal.load()),
+                maxTileCount.load(), nonEmptyTiles.load()};
+    }
+};
+
+// One light list's global side: RWStructuredBuffer<uint> o_LightIndexList, o_LightIndexCounter
+// and RWTexture2D<uint2> o_LightGrid (and the t_ equivalents).
+struct GlobalList {
+    std::byte* indexList = nullptr;
+    std::uint64_t capacity = 0;  // entries
+    std::byte* grid = nullptr;   // tilesX x tilesY (offset, count)
+    compute::OrderedCounter* counter = nullptr;
+    OverflowTally* tally = nullptr;
+};
+
+template <std::uint32_t kBlock>
+struct CullLightsKernel {
+    static constexpr glm::uvec3 groupSize{kBlock, kBlock, 1};
+    static constexpr std::uint32_t kThreads = kBlock * kBlock;
+    using Shared = CullShared;
+
+    DepthImageView depth;                 // DepthTextureVS (the pre-pass depth, D24 decoded)
+    const Frustum* frustums = nullptr;    // in_Frustums
+    std::span<const ViewLight<float>> lights;  // Lights
+    const float* coneRadius = nullptr;         // per light: tan(radians(SpotlightAngle)) * Range, as CS_main computes it
+    const std::vector<std::vector<BinnedLight>>* rows = nullptr;  // candidate lights per tile row
+    glm::vec2 screenDimensions{0.0f};
+    glm::mat4 inverseProjection{1.0f};
+    bool coneCorrected = false;
+    std::uint32_t localCapacity = kForwardPlusLocalListCapacity;  // entries of o_ / t_LightList
+    GlobalList opaque, transparent;
+    std::byte* heatmap = nullptr;  // RWTexture2D<float4> DebugTexture, screen size
+
+    bool sphereIn(const Sphere& sphere, const CullShared& s, bool& opaqueToo) const {
+        if (!sphereInsideFrustum(sphere, s.groupFrustum, s.nearClipVS, s.maxDepthVS)) return false;
+        opaqueToo = !sphereInsidePlane(sphere, nearPlane3dgep(s.minDepthVS));  // minPlane
+        return true;
+    }
+    bool coneIn(const Cone& cone, const CullShared& s, bool& opaqueToo) const {
+        const Plane minPlane = nearPlane3dgep(s.minDepthVS);
+        if (coneCorrected) {
+            if (!coneInsideFrustumCorrected(cone, s.groupFrustum, s.nearClipVS, s.maxDepthVS)) return false;
+            opaqueToo = !coneInsidePlaneCorrected(cone, minPlane);
+        } else {
+            if (!coneInsideFrustum(cone, s.groupFrustum, s.nearClipVS, s.maxDepthVS)) return false;
+            opaqueToo = !coneInsidePlane(cone, minPlane);
+        }
+        return true;
+    }
+
+    void operator()(compute::GroupContext<Shared>& g) const {
+        CullShared& s = g.shared();
+        const glm::uvec2 groupId(g.groupId());
+        const std::uint32_t tilesX = g.groupCount().x;
+        const std::vector<BinnedLight>& candidates = (*rows)[groupId.y];
+        // groupshared o_LightList / t_LightList: the demo's 1024 entries, or (unbounded) room for
+        // every candidate of the tile. Per worker thread; a group runs to its end on one thread.
+        static thread_local std::vector<std::uint32_t> oLightList, tLightList;
+        const std::size_t listSize = std::min<std::size_t>(localCapacity, candidates.size());
+        if (oLightList.size() < listSize) oLightList.resize(listSize);
+        if (tLightList.size() < listSize) tLightList.resize(listSize);
+
+        g.forOneThread(0, [&](const compute::ThreadIds&) {
+            s.uMinDepth = 0xFFFFFFFFu;
+            s.uMaxDepth = 0;
+            s.oLightCount = 0;
+            s.tLightCount = 0;
+            s.groupFrustum = frustums[groupId.x + std::size_t{groupId.y} * tilesX];
+        });
+        // Every thread: uDepth = asuint(DepthTextureVS.Load(texCoord)); InterlockedMin/Max. Only
+        // commutative min/max reach the shared values, so tileDepthRange3dgep's loop over the
+        // tile's pixels (out-of-screen loads 0) gives the same bits (math/tile_depth_range.h).
+        g.forOneThread(0, [&](const compute::ThreadIds&) {
+            const TileDepthRange3dgep range = tileDepthRange3dgep(depth, groupId, kBlock, screenDimensions, inverseProjection);
+            s.uMinDepth = std::bit_cast<std::uint32_t>(range.minDepth);
+            s.uMaxDepth = std::bit_cast<std::uint32_t>(range.maxDepth);
+            s.minDepthVS = range.minDepthVS;
+            s.maxDepthVS = range.maxDepthVS;
+            s.nearClipVS = range.nearClipVS;
+        });
+        // for (i = groupIndex; i < NUM_LIGHTS; i += BLOCK_SIZE * BLOCK_SIZE) over the tile's
+        // candidates (all enabled lights with culling brute), in ascending light index.
+        const auto append = [&](std::uint32_t& count, std::vector<std::uint32_t>& list, std::uint32_t lightIndex) {
+            const std::uint32_t index = count++;  // InterlockedAdd(o_LightCount, 1, index)
+            if (index < localCapacity) list[index] = lightIndex;
+        };
+        g.forEachStrided(static_cast<std::uint32_t>(candidates.size()), [&](const compute::ThreadIds&, std::uint32_t k) {
+            const BinnedLight& candidate = candidates[k];
+            if (groupId.x < candidate.x0 || groupId.x > candidate.x1) return;  // fails the test below (binning)
+            const std::uint32_t i = candidate.light;
+            const ViewLight<float>& light = lights[i];
+            if (!light.enabled) return;
+            bool opaqueToo = false;
+            switch (light.type) {
+            case LightType::Point: {
+                const Sphere sphere{glm::vec3(light.positionView), light.range};
+                if (!sphereIn(sphere, s, opaqueToo)) return;
+                break;
+            }
+            case LightType::Spot: {
+                const Cone cone{glm::vec3(light.positionView), light.range, glm::vec3(light.directionView), coneRadius[i]};
+                if (!coneIn(cone, s, opaqueToo)) return;
+                break;
+            }
+            case LightType::Directional: opaqueToo = true; break;  // always added
+            }
+            append(s.tLightCount, tLightList, i);
+            if (opaqueToo) append(s.oLightCount, oLightList, i);
+        });
+        // if (groupIndex == 0): InterlockedAdd(o_LightIndexCounter[0], o_LightCount, offset);
+        // o_LightGrid[groupID.xy] = uint2(offset, o_LightCount); the same for t_.
+        g.forOneThread(0, [&](const compute::ThreadIds&) {
+            const std::size_t tile = groupId.x + std::size_t{groupId.y} * tilesX;
+            s.oLightIndexStartOffset = opaque.counter->reserve(g, s.oLightCount);
+            storeUint32(opaque.grid, tile * 2, s.oLightIndexStartOffset);
+            storeUint32(opaque.grid, tile * 2 + 1, s.oLightCount);
+            s.tLightIndexStartOffset = transparent.counter->reserve(g, s.tLightCount);
+            storeUint32(transparent.grid, tile * 2, s.tLightIndexStartOffset);
+            storeUint32(transparent.grid, tile * 2 + 1, s.tLightCount);
+            opaque.tally->add(s.oLightCount, localCapacity, s.oLightIndexStartOffset, opaque.capacity);
+            transparent.tally->add(s.tLightCount, localCapacity, s.tLightIndexStartOffset, transparent.capacity);
+        });
+        // for (i = groupIndex; i < o_LightCount; i += 256) o_LightIndexList[offset + i] = o_LightList[i]:
+        // reads past the local list give 0, writes past the global list are discarded.
+        const auto copy = [&](const GlobalList& global, std::uint32_t count, std::uint32_t offset,
+                              const std::vector<std::uint32_t>& list) {
+            g.forEachStrided(count, [&](const compute::ThreadIds&, std::uint32_t i) {
+                const std::uint32_t at = offset + i;  // uint arithmetic, as in HLSL
+                if (at < global.capacity) storeUint32(global.indexList, at, i < localCapacity ? list[i] : 0u);
+            });
+        };
+        copy(opaque, s.oLightCount, s.oLightIndexStartOffset, oLightList);
+        copy(transparent, s.tLightCount, s.tLightIndexStartOffset, tLightList);
+        // The heat map (DebugTexture): grid lines on thread rows/columns 0 and 1, then the
+        // gradient for o_LightCount > 0, else opaque black. Off-screen threads write nothing.
+        const glm::vec4 heat = s.oLightCount > 0 ? forwardPlusHeatMapColor(s.oLightCount) : glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        g.forEachThread([&](const compute::ThreadIds& t) {
+            if (t.dispatchThreadId.x >= depth.width || t.dispatchThreadId.y >= depth.height) return;
+            glm::vec4 color = heat;
+            if (t.groupThreadId.x == 0 || t.groupThreadId.y == 0) color = glm::vec4(0.0f, 0.0f, 0.0f, 0.9f);
+            else if (t.groupThreadId.x == 1 || t.groupThreadId.y == 1) color = glm::vec4(1.0f, 1.0f, 1.0f, 0.5f);
+            const std::size_t pixel = t.dispatchThreadId.x + std::size_t{t.dispatchThreadId.y} * depth.width;
+            std::memcpy(heatmap + pixel * sizeof(glm::vec4), &color, sizeof(color));
+        });
+    }
+};
+
+// Runs the culling for one tile size: binning, the dispatch, the counters.
+template <std::uint32_t kBlock>
+void cullLights(const ForwardPlusState& st, Device& device, BufferRegistry& reg) {
+    const glm::uvec2 tiles = st.tiles;
+    const std::size_t tileCount = std::size_t{tiles.x} * tiles.y;
+    const std::span<const ViewLight<float>> lights = st.setup->lightsExact;
+    const std::uint32_t width = st.setup->width, height = st.setup->height;
+
+    // in_Frustums from the "frustums" buffer.
+    const Surface& frustumSurface = reg.get("frustums");
+    std::vector<Frustum> frustums(tileCount);
+    for (std::size_t t = 0; t < tileCount; ++t)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const std::byte* texel = frustumSurface.texel(std::uint32_t(t % tiles.x * 4 + i), std::uint32_t(t / tiles.x));
+            float plane[4];
+            std::memcpy(plane, texel, sizeof(plane));
+            frustums[t].planes[i] = Plane{glm::vec3(plane[0], plane[1], plane[2]), plane[3]};
+        }
+
+    // DepthTextureVS: the pre-pass depth as the SRV (R24_UNORM_X8) loads it.
+    const Surface& depthSurface = reg.get("depth");
+    std::vector<float> depth(std::size_t{width} * height);
+    std::vector<LightTileRect> rects(lights.size());
+    std::vector<float> coneRadius(lights.size(), 0.0f);  // the same float expression per light, once
+    std::vector<std::vector<BinnedLight>> rows(tiles.y);
+    std::uint64_t candidatePairs = 0;
+    device.execute([&] {
+        tbb::parallel_for(std::uint32_t(0), height, [&](std::uint32_t y) {
+            for (std::uint32_t x = 0; x < width; ++x) depth[std::size_t{y} * width + x] = depthSurface.loadDepth(x, y);
+        });
+        const float nearClipVS =
+            screenToView(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), st.screenDimensions, st.inverseProjection).z;
+        const LightTileRect all{0, tiles.x - 1, 0, tiles.y - 1};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lights.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                coneRadius[i] = detTan(hlsl::radians(lights[i].spotlightAngleDeg)) * lights[i].range;
+                rects[i] = !lights[i].enabled ? LightTileRect{}
+                           : st.options.brute ? all
+                                              : lightTileRect(lights[i], frustums, tiles, nearClipVS);
+            }
+        });
+        tbb::parallel_for(std::uint32_t(0), tiles.y, [&](std::uint32_t ty) {
+            for (std::size_t i = 0; i < lights.size(); ++i)
+                if (rects[i].x0 <= rects[i].x1 && rects[i].y0 <= ty && ty <= rects[i].y1)
+                    rows[ty].push_back({std::uint32_t(i), rects[i].x0, rects[i].x1});
+        });
+    });
+    for (const LightTileRect& r : rects)
+        if (r.x0 <= r.x1 && r.y0 <= r.y1) candidatePairs += std::uint64_t{r.x1 - r.x0 + 1} * (r.y1 - r.y0 + 1);
+
+    // Sizes: the demo's numTiles * 200 with a 1024-entry local list, or (unbounded) the sum over
+    // tiles of their candidates, with a local list as long as the tile's row of candidates.
+    std::uint32_t localCapacity = kForwardPlusLocalListCapacity;
+    std::uint64_t capacity = std::uint64_t{tileCount} * kForwardPlusAverageLightsPerTile;
+    if (st.options.unbounded) {
+        localCapacity = static_cast<std::uint32_t>(std::min<std::size_t>(lights.size(), 0xFFFFFFFFu));
+        capacity = candidatePairs;
+    }
+
+    Surface& gridOpaque = reg.create("lightgrid.opaque", {tiles.x, tiles.y, Format::R32G32_UINT, 1});
+    Surface& gridTransparent = reg.create("lightgrid.transparent", {tiles.x, tiles.y, Format::R32G32_UINT, 1});
+    Surface& listOpaque = reg.create("lightindex.opaque", indexListDesc(capacity));
+    Surface& listTransparent = reg.create("lightindex.transparent", indexListDesc(capacity));
+    Surface& heatmap = reg.create("heatmap", {width, height, Format::R32G32B32A32_FLOAT, 1});
+    // New surfaces hold zero bytes: the grids and lists start at 0, the heat map at (0, 0, 0, 0).
+
+    // o_LightIndexCounter / t_LightIndexCounter, reset to 0 every frame (the demo copies a 0).
+    compute::OrderedCounter opaqueCounter(0), transparentCounter(0);
+    OverflowTally opaqueTally, transparentTally;
+    CullLightsKernel<kBlock> kernel;
+    kernel.depth = DepthImageView{depth, width, height};
+    kernel.frustums = frustums.data();
+    kernel.lights = lights;
+    kernel.coneRadius = coneRadius.data();
+    kernel.rows = &rows;
+    kernel.screenDimensions = st.screenDimensions;
+    kernel.inverseProjection = st.inverseProjection;
+    kernel.coneCorrected = st.options.coneCorrected;
+    kernel.localCapacity = localCapacity;
+    kernel.opaque = GlobalList{listOpaque.bytes().data(), capacity, gridOpaque.bytes().data(), &opaqueCounter, &opaqueTally};
+    kernel.transparent = GlobalList{listTransparent.bytes().data(), capacity, gridTransparent.bytes().data(),
+                                    &transparentCounter, &transparentTally};
+    kernel.heatmap = heatmap.bytes().data();
+    const std::array<compute::OrderedCounter*, 2> counters{&opaqueCounter, &transparentCounter};
+    device.execute([&] {
+        compute::dispatch(kernel, glm::uvec3(tiles.x, tiles.y, 1), compute::DispatchDesc{compute::GroupOrder::Parallel, counters});
+    });
+
+    Surface& counterSurface = reg.create("lightlist.counters", {kLightListCounterFields, 2, Format::R32_UINT, 1});
+    const std::array<LightListCounters, 2> rowsOut{opaqueTally.counters(opaqueCounter.value(), capacity),
+                                                  transparentTally.counters(transparentCounter.value(), capacity)};
+    for (std::uint32_t row = 0; row < 2; ++row) {
+        static_assert(sizeof(LightListCounters) == kLightListCounterFields * sizeof(std::uint32_t));
+        std::memcpy(counterSurface.texel(0, row), &rowsOut[row], sizeof(LightListCounters));
+    }
+}
+
+// The depth pre-pass PS with the alpha test: PS_main's alpha and discard, nothing written.
+struct PrepassAlphaTestPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 0;
+    static constexpr bool kMayDiscard = true;
+    PhongShadeFn<float> shade = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<0>& out) const {
+        Vec4<float> color;
+        if (!shade(*data, in, color)) out.discard();
+    }
+};
+
+// The demo's depth pre-pass (g_pDepthPrepassPipeline): the opaque items, VS only, depth LESS with
+// writes, the opaque pass's culling (cull back; glTF doubleSided: none).
+void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, Surface& depthSurface,
+                      DrawStats* stats) {
+    RenderTargets rt;
+    rt.depthStencil = &depthSurface;
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;
+        DrawState st;
+        st.viewport = Viewport{0.0f, 0.0f, float(setup.width), float(setup.height), 0.0f, 1.0f};
+        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
+        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const std::span<const SceneVertex> vertices(prim.vertices);
+        const PhongVariant variant = selectPhongVariant<float>(phongFeatures(material, setup.alphaTest));
+        DrawStats s;
+        if (variant.mayDiscard) {
+            const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
+            s = device.draw(st, rt, vertices, prim.indices, vs, PrepassAlphaTestPS{variant.exact, &data});
+        } else {
+            s = device.draw(st, rt, vertices, prim.indices, vs, NoPixelShader{});
+        }
+        if (stats) *stats += s;
+    }
+}
+
+} // namespace
+
+glm::vec4 forwardPlusHeatMapColor(std::uint32_t lightCount) {
+    static constexpr std::array<glm::vec4, 5> kGradient{glm::vec4(0.0f, 0.0f, 1.0f, 1.0f), glm::vec4(0.0f, 1.0f, 1.0f, 1.0f),
+                                                        glm::vec4(0.0f, 1.0f, 0.0f, 1.0f), glm::vec4(1.0f, 1.0f, 0.0f, 1.0f),
+                                                        glm::vec4(1.0f, 0.0f, 0.0f, 1.0f)};
+    const float u = float(lightCount) / kHeatMapFullScale;
+    // Linear filtering, clamp addressing: texel space t = u * 5 - 0.5, clamped to the end texels.
+    const float t = std::clamp(u * float(kGradient.size()) - 0.5f, 0.0f, float(kGradient.size() - 1));
+    const float base = std::floor(t);
+    const auto i0 = static_cast<std::size_t>(base);
+    const std::size_t i1 = std::min(i0 + 1, kGradient.size() - 1);
+    const float f = t - base;
+    return kGradient[i0] + (kGradient[i1] - kGradient[i0]) * f;
+}
+
+ForwardPlusCounters readForwardPlusCounters(const BufferRegistry& registry) {
+    const Surface* s = registry.find("lightlist.counters");
+    if (!s) throw std::out_of_range("no buffer 'lightlist.counters' (not a forward-plus frame)");
+    ForwardPlusCounters c;
+    std::memcpy(&c.opaque, s->texel(0, 0), sizeof(LightListCounters));
+    std::memcpy(&c.transparent, s->texel(0, 1), sizeof(LightListCounters));
+    return c;
+}
+
+Frame buildForwardPlus(const TechniqueContext& ctx) {
+    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
+    if (ctx.precision != Precision::Exact)
+        throw inputError(file, "/precision", "forward-plus supports precision 'exact' only");
+    auto st = std::make_shared<ForwardPlusState>();
+    st->options = parseOptions(ctx, file);
+    st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);
+    const std::uint32_t block = st->options.tileSizePx;
+    st->tiles = tileCount(glm::uvec2(ctx.width, ctx.height), block);
+    // ScreenToViewParams (main.cpp): InverseProjection = glm::inverse(projection), ScreenDimensions.
+    st->inverseProjection = glm::inverse(st->setup->clipFromView);
+    st->screenDimensions = glm::vec2(float(ctx.width), float(ctx.height));
+
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+    const std::string back(kBackBufferName);
+
+    Frame frame;
+    frame.add({"clear", {}, {back, "depth"}, [st](BufferRegistry& reg) {
+                   const std::uint32_t w = st->setup->width, h = st->setup->height;
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+               }});
+    frame.add({"depth-prepass", {"depth"}, {"depth"}, [st, device, res, stats](BufferRegistry& reg) {
+                   drawDepthPrepass(*st->setup, *device, *res, reg.get("depth"), stats);
+               }});
+    frame.add({"frustums", {}, {"frustums"}, [st, device](BufferRegistry& reg) {
+                   const glm::uvec2 tiles = st->tiles;
+                   std::vector<Frustum> frustums(std::size_t{tiles.x} * tiles.y);
+                   const auto run = [&]<std::uint32_t kBlock>() {
+                       ComputeFrustumsKernel<kBlock> kernel;
+                       kernel.numThreads = tiles;
+                       kernel.screenDimensions = st->screenDimensions;
+                       kernel.inverseProjection = st->inverseProjection;
+                       kernel.outFrustums = frustums.data();
+                       const glm::uvec3 groups((tiles.x + kBlock - 1) / kBlock, (tiles.y + kBlock - 1) / kBlock, 1);
+                       device->execute([&] { compute::dispatch(kernel, groups, {compute::GroupOrder::Parallel, {}}); });
+                   };
+                   if (st->options.tileSizePx == 8) run.template operator()<8>();
+                   else if (st->options.tileSizePx == 32) run.template operator()<32>();
+                   else run.template operator()<16>();
+                   Surface& s = reg.create("frustums", {4 * tiles.x, tiles.y, Format::R32G32B32A32_FLOAT, 1});
+                   for (std::size_t t = 0; t < frustums.size(); ++t)
+                       for (std::size_t i = 0; i < 4; ++i) {
+                           const Plane& p = frustums[t].planes[i];
+                           const float plane[4] = {p.N.x, p.N.y, p.N.z, p.d};
+                           std::memcpy(s.texel(std::uint32_t(t % tiles.x * 4 + i), std::uint32_t(t / tiles.x)), plane, sizeof(plane));
+                       }
+               }});
+    const std::vector<std::string> cullWrites{"lightgrid.opaque",       "lightgrid.transparent", "lightindex.opaque",
+                                              "lightindex.transparent", "heatmap",               "lightlist.counters"};
+    frame.add({"light-culling", {"depth", "frustums"}, cullWrites, [st, device](BufferRegistry& reg) {
+                   if (st->options.tileSizePx == 8) cullLights<8>(*st, *device, reg);
+                   else if (st->options.tileSizePx == 32) cullLights<32>(*st, *device, reg);
+                   else cullLights<16>(*st, *device, reg);
+               }});
+    const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
+        return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
+            const std::string which = transparentPass ? "transparent" : "opaque";
+            const Surface& grid = reg.get("lightgrid." + which);
+            const Surface& list = reg.get("lightindex." + which);
+            const ForwardPlusCounters counters = readForwardPlusCounters(reg);
+            TileLightList& bound = transparentPass ? st->transparentList : st->opaqueList;
+            bound.grid = grid.bytes().data();
+            bound.gridWidth = grid.width();
+            bound.gridHeight = grid.height();
+            bound.indices = list.bytes().data();
+            bound.indexCount = (transparentPass ? counters.transparent : counters.opaque).capacity;
+            bound.tileSizePx = st->options.tileSizePx;
+            RenderTargets rt;
+            rt.colors[0] = &reg.get(kBackBufferName);
+            rt.depthStencil = &reg.get("depth");
+            // Both Forward+ pipelines test LESS_EQUAL: the opaque pass against its own pre-pass
+            // depth, the transparent pass without writes (main.cpp).
+            ForwardPassOverrides overrides;
+            overrides.depthFunc = ComparisonFunc::LessEqual;
+            overrides.tileLights = &bound;
+            drawForwardPass(*st->setup, *device, *res, rt, transparentPass, stats, variantCounts, overrides);
+        };
+    };
+    frame.add({"opaque", {back, "depth", "lightgrid.opaque", "lightindex.opaque", "lightlist.counters"}, {back, "depth"},
+               drawPass(false)});
+    frame.add({"transparent",
+               {back, "depth", "lightgrid.transparent", "lightindex.transparent", "lightlist.counters"},
+               {back},
+               drawPass(true)});
+    return frame;
+}
+
+} // namespace tessera

@@ -1,0 +1,544 @@
+// The `tiled-deferred` technique (Intel 2010 ComputeShaderTile.hlsl, seed 004): clear -> G-buffer
+// (deferred's pass) -> one compute dispatch, a group per tile: view-z range, Intel tile planes,
+// light culling into the tile's list, shading of the tile's pixels -> present -> transparent
+// (forward). Options and buffers are documented in include/tessera/techniques/tiled_deferred.h.
+#include <tessera/techniques/tiled_deferred.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <tessera/buffers/conversion.h>
+#include <tessera/buffers/texel_codec.h>
+#include <tessera/compute/dispatch.h>
+#include <tessera/io/input_error.h>
+#include <tessera/math/specular_power_packing.h>
+#include <tessera/math/tile_depth_range.h>
+#include <tessera/shading/phong_lighting.h>
+#include <tessera/techniques/deferred.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique_options.h>
+
+namespace tessera {
+
+// ----- Intel's shading and G-buffer math (public, tiled_deferred.h) -----------------------------
+
+float intelLinstep(float minValue, float maxValue, float v) { return hlsl::saturate((v - minValue) / (maxValue - minValue)); }
+
+namespace {
+
+// AccumulatePhongBRDF (Rendering.hlsl): `lightContrib` already includes the attenuation.
+void intelPhong(const glm::vec3& normal, const glm::vec3& lightDir, const glm::vec3& viewDir, const glm::vec3& lightContrib,
+                float specularPower, glm::vec3& litDiffuse, glm::vec3& litSpecular) {
+    const float nDotL = hlsl::dot(normal, lightDir);
+    if (nDotL > 0.0f) {
+        // reflect(i, n) = i - 2 * dot(n, i) * n
+        const glm::vec3 r = lightDir - (2.0f * hlsl::dot(normal, lightDir)) * normal;
+        const float rDotV = hlsl::max(0.0f, hlsl::dot(r, viewDir));
+        const float specular = detPow(rDotV, specularPower);
+        litDiffuse += lightContrib * nDotL;
+        litSpecular += lightContrib * specular;
+    }
+}
+
+// lit += albedo * (litDiffuse + specularAmount * litSpecular) for one light direction.
+void intelAccumulate(const glm::vec3& normalView, const glm::vec3& lightDir, const glm::vec3& viewDir,
+                     const glm::vec3& contrib, const glm::vec3& albedo, float specularAmount, float specularPower,
+                     glm::vec3& lit) {
+    glm::vec3 litDiffuse(0.0f), litSpecular(0.0f);
+    intelPhong(normalView, lightDir, viewDir, contrib, specularPower, litDiffuse, litSpecular);
+    lit += albedo * (litDiffuse + specularAmount * litSpecular);
+}
+
+glm::vec3 normalize3(const glm::vec3& v) { return v / std::sqrt(hlsl::dot(v, v)); }
+
+} // namespace
+
+void intelAccumulateBrdf(const glm::vec3& posView, const glm::vec3& normalView, const glm::vec3& albedo,
+                         float specularAmount, float specularPower, const IntelPointLight& light, glm::vec3& lit) {
+    glm::vec3 directionToLight = light.positionView - posView;
+    const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+    if (distanceToLight < light.attenuationEnd) {
+        const float attenuation = intelLinstep(light.attenuationEnd, light.attenuationBegin, distanceToLight);
+        directionToLight *= 1.0f / distanceToLight;  // rcp: correctly rounded here
+        intelAccumulate(normalView, directionToLight, normalize3(posView), attenuation * light.color, albedo, specularAmount,
+                        specularPower, lit);
+    }
+}
+
+glm::vec3 positionViewFromDepthIntel(std::uint32_t pxX, std::uint32_t pxY, float zBuffer, glm::uvec2 framebufferPx,
+                                     const glm::mat4& projectionLh) {
+    const glm::vec2 screenPixelOffset = glm::vec2(2.0f, -2.0f) / glm::vec2(framebufferPx);
+    const glm::vec2 positionScreen = (glm::vec2(float(pxX), float(pxY)) + 0.5f) * screenPixelOffset + glm::vec2(-1.0f, 1.0f);
+    const float viewSpaceZ = projectionLh[3][2] / (zBuffer - projectionLh[2][2]);  // _43 / (z - _33)
+    const glm::vec2 screenSpaceRay(positionScreen.x / projectionLh[0][0], positionScreen.y / projectionLh[1][1]);
+    return {screenSpaceRay.x * viewSpaceZ, screenSpaceRay.y * viewSpaceZ, viewSpaceZ};
+}
+
+glm::mat4 projectionLhFromRh(const glm::mat4& projectionRh) {
+    glm::mat4 p = projectionRh;
+    p[2] = -p[2];
+    return p;
+}
+
+glm::vec3 intelSpheremapRoundTrip(const glm::vec3& n) {
+    const float oneMinusZ = 1.0f - n.z;
+    const float p = std::sqrt((n.x * n.x + n.y * n.y) + oneMinusZ * oneMinusZ);
+    glm::vec2 e = glm::vec2(n.x, n.y) / p * 0.5f + 0.5f;
+    e = glm::vec2(convert::halfToFloat(convert::floatToHalf(e.x)), convert::halfToFloat(convert::floatToHalf(e.y)));  // R16G16B16A16_FLOAT
+    const glm::vec2 tmp = e - e * e;
+    const float f = tmp.x + tmp.y;
+    const float m = std::sqrt(4.0f * f - 1.0f);
+    const glm::vec2 xy = m * (e * 4.0f - 2.0f);
+    return {xy.x, xy.y, 3.0f - 8.0f * f};
+}
+
+namespace {
+
+// The demo's clear colour (deferred / forward), also tessera's stand-in for Intel's sky box.
+constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
+constexpr std::uint32_t kIndicesRow = 16384;  // "tiles.lightIndices" row length (kMaxSurfaceDimension)
+constexpr std::uint32_t kUnbounded = 0xFFFFFFFFu;
+
+enum class Shading { Intel, Dgep };
+
+struct TiledOptions {
+    Shading shading = Shading::Intel;
+    bool floatTargets = false;
+    bool positionFromGBuffer = false;
+    bool spheremap = true;
+    IntelSidePlanes planes = IntelSidePlanes::Sample2010;
+    std::uint32_t tileSize = kIntelTileDim;
+    std::uint32_t capacity = kIntelMaxLights;
+    PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
+    bool alphaTest = false;
+};
+
+TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
+    TiledOptions o;
+    o.shading = optionEnum(j, "shading", {"intel", "3dgep"}, "intel", file) == "3dgep" ? Shading::Dgep : Shading::Intel;
+    o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
+    o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
+    o.spheremap = optionEnum(j, "normals", {"spheremap", "float"}, "spheremap", file) == "spheremap";
+    o.planes = optionEnum(j, "tilePlanes", {"sample2010", "seed004"}, "sample2010", file) == "seed004" ? IntelSidePlanes::Seed004
+                                                                                                      : IntelSidePlanes::Sample2010;
+    optionEnum(j, "projection", {"d3d"}, "d3d", file);
+    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
+                                                                                 : PhongSamplerChoice::Demo;
+    o.alphaTest = optionBool(j, "alphaTest", false, file);
+    if (j.is_object()) {
+        if (const auto it = j.find("tileSize"); it != j.end()) {
+            if (!it->is_number_integer() || (it->get<std::int64_t>() != 8 && it->get<std::int64_t>() != 16 &&
+                                             it->get<std::int64_t>() != 32))
+                throw inputError(file, "/options/tileSize", "expected 8, 16 or 32 (pixels)");
+            o.tileSize = std::uint32_t(it->get<std::int64_t>());
+        }
+        if (const auto it = j.find("tileListCapacity"); it != j.end()) {
+            if (it->is_string() && it->get<std::string>() == "unbounded") o.capacity = kUnbounded;
+            else if (it->is_number_integer() && it->get<std::int64_t>() >= 1 && it->get<std::int64_t>() < std::int64_t(kUnbounded))
+                o.capacity = std::uint32_t(it->get<std::int64_t>());
+            else throw inputError(file, "/options/tileListCapacity", "expected an integer >= 1 or \"unbounded\"");
+        }
+    }
+    return o;
+}
+
+// Texture2D.Load of a G-buffer target: R8G8B8A8_UNORM through a 256-entry table made by the
+// format's own decoder, R32G32B32A32_FLOAT as stored, anything else through Surface::load.
+class TargetReader {
+public:
+    TargetReader() = default;
+    explicit TargetReader(const Surface& s) : mSurface(&s), mRgba8(s.format() == Format::R8G8B8A8_UNORM) {
+        for (unsigned c = 0; c < 256 && mRgba8; ++c) {
+            const std::array<std::byte, 4> texel{std::byte(c), std::byte(0), std::byte(0), std::byte(0)};
+            mUnorm8[c] = decodeTexel(Format::R8G8B8A8_UNORM, texel.data()).x;
+        }
+    }
+    glm::vec4 load(std::uint32_t x, std::uint32_t y) const {
+        const std::byte* p = mSurface->texel(x, y);
+        if (mRgba8)
+            return {mUnorm8[std::to_integer<unsigned>(p[0])], mUnorm8[std::to_integer<unsigned>(p[1])],
+                    mUnorm8[std::to_integer<unsigned>(p[2])], mUnorm8[std::to_integer<unsigned>(p[3])]};
+        if (mSurface->format() == Format::R32G32B32A32_FLOAT) {
+            glm::vec4 v;
+            std::memcpy(&v[0], p, 16);
+            return v;
+        }
+        return mSurface->load(x, y);
+    }
+
+private:
+    const Surface* mSurface = nullptr;
+    bool mRgba8 = false;
+    std::array<float, 256> mUnorm8{};
+};
+
+// A PS output value converted for an R8G8B8A8_UNORM target without blending: NaN -> 0, clamp to
+// [0, 1] (D3D11.3 §3.2.3.6), rounded by the surface's encoder.
+void storeUnorm8(Surface& target, std::uint32_t x, std::uint32_t y, glm::vec4 v) {
+    for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
+    target.store(x, y, 0, v);
+}
+
+// One scene light as the culling loop sees it (left-handed view space, Intel's convention).
+struct CullLight {
+    enum Kind : std::uint8_t { Sphere, Always, Never };
+    glm::vec3 posViewLh{0.0f};
+    float radius = 0.0f;  // attenuationEnd = range, view units
+    Kind kind = Never;
+};
+
+// One scene light for Intel's shading: a PointLight, or a light without falloff (directional:
+// lightDirLh = normalize(-direction); infinite-range point / spot: attenuation 1).
+struct IntelLight {
+    IntelPointLight point;
+    bool directional = false, infinite = false;
+    glm::vec3 lightDirLh{0.0f};        // directional: normalize(-DirectionVS), left-handed
+    const ViewLight<float>* spot = nullptr;  // spot lights: the cone of 3dgep's DoSpotCone (RH view)
+};
+
+// What the dispatch reads and writes for one frame.
+struct TiledSetup {
+    TiledOptions options;
+    std::shared_ptr<ForwardPassSetup> forward;
+    std::uint32_t width = 0, height = 0;
+    glm::uvec2 tiles{0u};
+    glm::mat4 projectionLh{1.0f};
+    float cameraNear = 0.0f, cameraFar = 0.0f;  // mCameraNearFar
+    std::vector<CullLight> cull;
+    std::vector<IntelLight> intelLights;
+    // Bound by the dispatch pass:
+    std::vector<float> depth;  // the depth buffer as Load returns it (D24 decoded)
+    DepthImageView depthView;
+    TargetReader accumulation, diffuse, specular, normal, position;
+    Surface* back = nullptr;
+    Surface* lit = nullptr;
+    Surface* heat = nullptr;
+    // Per tile (row-major), each written by its own group only:
+    std::vector<std::vector<std::uint32_t>> lists;
+    std::vector<std::uint32_t> appended;  // sTileNumLights after the loop (may exceed the capacity)
+    std::vector<TileDepthBits> ranges;
+};
+
+// Pixel (x, y) of the tile: 3dgep's DoLighting over the tile's lights and forward's final
+// expression (deferred.h ComposePS), where the G-buffer has geometry.
+void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<float>> lights, std::uint32_t x, std::uint32_t y) {
+    const float zBuffer = s.depthView.load(x, y);
+    if (!(zBuffer < 1.0f)) return;  // the cleared depth: no geometry, the clear colour stays
+    const TiledOptions& o = s.options;
+    glm::vec4 posView;
+    if (o.positionFromGBuffer) {
+        posView = s.position.load(x, y);
+    } else {
+        const glm::vec3 lh = positionViewFromDepthIntel(x, y, zBuffer, {s.width, s.height}, s.projectionLh);
+        posView = glm::vec4(lh.x, lh.y, -lh.z, 1.0f);
+    }
+    const glm::vec4 normalView = s.normal.load(x, y);
+    const glm::vec4 specularStored = s.specular.load(x, y);
+    const float specularPower = o.floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w);
+    const LightingResult<float> lit = doLighting(lights, specularPower, posView, normalView, specularPower > 1.0f);
+    const glm::vec4 ambientEmissive = s.accumulation.load(x, y);
+    glm::vec4 diffuse = s.diffuse.load(x, y);
+    diffuse *= glm::vec4(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, 1.0f);
+    glm::vec4 specular(0.0f);
+    if (specularPower > 1.0f) specular = glm::vec4(specularStored.x, specularStored.y, specularStored.z, 0.0f) * lit.specular;
+    const glm::vec4 sum = (ambientEmissive + diffuse) + specular;
+    storeUnorm8(*s.back, x, y, glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w));
+}
+
+// Pixel (x, y): Intel's per-pixel body of ComputeShaderTileCS (MSAA 1): SurfaceData from the
+// G-buffer, AccumulateBRDF over the tile's list, WriteSample(float4(lit, 1)) or 0 with no lights.
+void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y) {
+    if (list.empty()) {
+        s.lit->store(x, y, 0, glm::vec4(0.0f));
+        return;
+    }
+    const TiledOptions& o = s.options;
+    glm::vec3 posViewLh;
+    if (o.positionFromGBuffer) {
+        const glm::vec4 p = s.position.load(x, y);
+        posViewLh = glm::vec3(p.x, p.y, -p.z);
+    } else {
+        posViewLh = positionViewFromDepthIntel(x, y, s.depthView.load(x, y), {s.width, s.height}, s.projectionLh);
+    }
+    const glm::vec4 n = s.normal.load(x, y);
+    glm::vec3 normalLh(n.x, n.y, -n.z);
+    if (o.spheremap) normalLh = intelSpheremapRoundTrip(normalLh);
+    const glm::vec3 albedo(s.diffuse.load(x, y));
+    glm::vec3 lit(0.0f);
+    for (const std::uint32_t index : list) {
+        const IntelLight& light = s.intelLights[index];
+        if (light.directional) {
+            intelAccumulate(normalLh, light.lightDirLh, normalize3(posViewLh), light.point.color, albedo, kIntelSpecularAmount,
+                            kIntelSpecularPower, lit);
+        } else if (light.infinite) {
+            glm::vec3 directionToLight = light.point.positionView - posViewLh;
+            const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+            directionToLight *= 1.0f / distanceToLight;
+            intelAccumulate(normalLh, directionToLight, normalize3(posViewLh), light.point.color, albedo, kIntelSpecularAmount,
+                            kIntelSpecularPower, lit);
+        } else if (light.spot) {
+            // AccumulateBRDF with the contribution scaled by the scene's cone (tessera: Intel has no
+            // spot lights); DoSpotCone reads the right-handed -L, the flip of the left-handed one.
+            glm::vec3 directionToLight = light.point.positionView - posViewLh;
+            const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+            if (distanceToLight < light.point.attenuationEnd) {
+                const float attenuation = intelLinstep(light.point.attenuationEnd, light.point.attenuationBegin, distanceToLight);
+                directionToLight *= 1.0f / distanceToLight;
+                const float cone = doSpotCone(*light.spot, glm::vec4(directionToLight.x, directionToLight.y, -directionToLight.z, 0.0f));
+                intelAccumulate(normalLh, directionToLight, normalize3(posViewLh), attenuation * light.point.color * cone, albedo,
+                                kIntelSpecularAmount, kIntelSpecularPower, lit);
+            }
+        } else {
+            intelAccumulateBrdf(posViewLh, normalLh, albedo, kIntelSpecularAmount, kIntelSpecularPower, light.point, lit);
+        }
+    }
+    s.lit->store(x, y, 0, glm::vec4(lit, 1.0f));
+}
+
+// ComputeShaderTileCS, one group per tile of kDim x kDim pixels (one thread each).
+template <std::uint32_t kDim>
+struct TileKernel {
+    static constexpr glm::uvec3 groupSize{kDim, kDim, 1};
+    struct Shared {
+        std::uint32_t minZ, maxZ;  // sMinZ, sMaxZ (asuint of view z)
+        std::uint32_t numLights;   // sTileNumLights
+    };
+    TiledSetup* s = nullptr;
+
+    void operator()(compute::GroupContext<Shared>& g) const {
+        TiledSetup& f = *s;
+        Shared& sh = g.shared();
+        const glm::uvec2 groupId(g.groupId());
+        const std::size_t tile = std::size_t(groupId.y) * f.tiles.x + groupId.x;
+
+        // Per-thread view z, valid near <= z < far, InterlockedMin / Max over asuint, initialised
+        // to FLT_MAX / 0: tile_depth_range.h reduces the tile's pixels with the same result.
+        g.forOneThread(0, [&](const compute::ThreadIds&) {
+            const TileDepthBits bits = tileViewZBitsIntel(f.depthView, groupId, kDim, f.projectionLh, f.cameraNear, f.cameraFar);
+            sh.minZ = bits.minBits;
+            sh.maxZ = bits.maxBits;
+            sh.numLights = 0;
+        });
+        f.ranges[tile] = TileDepthBits{sh.minZ, sh.maxZ};
+        const std::array<glm::vec4, 6> planes =
+            tileFrustumPlanesIntel(groupId, kDim, {f.width, f.height}, f.projectionLh, std::bit_cast<float>(sh.minZ),
+                                   std::bit_cast<float>(sh.maxZ), f.options.planes);
+
+        // for (lightIndex = groupIndex; lightIndex < totalLights; lightIndex += GROUP_SIZE):
+        // appends in ascending light index (dispatch.h order rule 2).
+        std::vector<std::uint32_t>& list = f.lists[tile];
+        list.clear();
+        g.forEachStrided(std::uint32_t(f.cull.size()), [&](const compute::ThreadIds&, std::uint32_t lightIndex) {
+            const CullLight& light = f.cull[lightIndex];
+            const bool inFrustum = light.kind == CullLight::Always ||
+                                   (light.kind == CullLight::Sphere && sphereInFrustumIntel(light.posViewLh, light.radius, planes));
+            if (!inFrustum) return;
+            const std::uint32_t listIndex = sh.numLights++;  // InterlockedAdd(sTileNumLights, 1, listIndex)
+            if (listIndex < f.options.capacity) list.push_back(lightIndex);
+        });
+        f.appended[tile] = sh.numLights;
+
+        thread_local std::vector<ViewLight<float>> gathered;
+        if (f.options.shading == Shading::Dgep) {
+            gathered.clear();
+            for (const std::uint32_t index : list) gathered.push_back(f.forward->lightsExact[index]);
+        }
+        const glm::vec4 heat(float(sh.numLights) / 255.0f);  // visualizeLightCount
+        g.forEachThread([&](const compute::ThreadIds& t) {
+            const std::uint32_t x = t.dispatchThreadId.x, y = t.dispatchThreadId.y;
+            if (x >= f.width || y >= f.height) return;  // only onscreen pixels
+            storeUnorm8(*f.heat, x, y, heat);
+            if (f.options.shading == Shading::Dgep) shadePixelDgep(f, gathered, x, y);
+            else shadePixelIntel(f, list, x, y);
+        });
+    }
+};
+
+template <std::uint32_t kDim>
+void dispatchTiles(TiledSetup& s, Device& device) {
+    const TileKernel<kDim> kernel{&s};
+    compute::DispatchDesc desc;
+    desc.order = compute::GroupOrder::Parallel;  // groups write only their own tile's pixels and lists
+    device.execute([&] { compute::dispatch(kernel, glm::uvec3(s.tiles.x, s.tiles.y, 1u), desc); });
+}
+
+} // namespace
+
+Frame buildTiledDeferred(const TechniqueContext& ctx) {
+    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
+    if (ctx.precision != Precision::Exact)
+        throw inputError(file, "/precision", "precision 'reference' and 'fast' are not implemented for tiled-deferred yet (use exact)");
+    if (ctx.camera.projection == ProjectionKind::Orthographic)
+        throw inputError(file, "/camera", "tiled-deferred needs a perspective camera (Intel's tile planes and view-z reconstruction)");
+    auto setup = std::make_shared<TiledSetup>();
+    setup->options = parseOptions(ctx.options, file);
+    const TiledOptions& opt = setup->options;
+    setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);
+    setup->width = ctx.width;
+    setup->height = ctx.height;
+    setup->tiles = tileCount({ctx.width, ctx.height}, opt.tileSize);
+    setup->projectionLh = projectionLhFromRh(setup->forward->clipFromView);
+    setup->cameraNear = ctx.camera.nearZ;
+    setup->cameraFar = ctx.camera.farZ;
+    const std::size_t tileTotal = std::size_t(setup->tiles.x) * setup->tiles.y;
+    setup->lists.resize(tileTotal);
+    setup->appended.resize(tileTotal);
+    setup->ranges.resize(tileTotal);
+
+    // Lights to view space once per frame (the sample's per-frame light buffer upload).
+    const std::vector<Light>& lights = ctx.resources->scene().lights;
+    const std::vector<ViewLight<float>>& viewLights = setup->forward->lightsExact;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const ViewLight<float>& v = viewLights[i];
+        CullLight c;
+        IntelLight il;
+        il.point.positionView = glm::vec3(v.positionView.x, v.positionView.y, -v.positionView.z);
+        il.point.color = glm::vec3(v.color) * v.intensity;
+        il.point.attenuationEnd = v.range;
+        il.point.attenuationBegin = kIntelAttenuationBeginRatio * v.range;
+        il.directional = v.type == LightType::Directional;
+        il.infinite = !il.directional && !std::isfinite(v.range);
+        if (v.type == LightType::Spot && !il.infinite) il.spot = &v;
+        if (il.directional) {
+            const glm::vec3 toLight = normalize3(glm::vec3(-v.directionView.x, -v.directionView.y, -v.directionView.z));
+            il.lightDirLh = glm::vec3(toLight.x, toLight.y, -toLight.z);
+        }
+        c.posViewLh = il.point.positionView;
+        c.radius = v.range;
+        c.kind = !v.enabled ? CullLight::Never : (il.directional || il.infinite) ? CullLight::Always : CullLight::Sphere;
+        setup->cull.push_back(c);
+        setup->intelLights.push_back(il);
+    }
+
+    const Format colorFormat = opt.floatTargets ? Format::R32G32B32A32_FLOAT : Format::R8G8B8A8_UNORM;
+    const Format depthFormat = opt.floatTargets ? Format::D32_FLOAT_S8X24_UINT : Format::D24_UNORM_S8_UINT;
+    const std::string back(kBackBufferName);
+    std::vector<std::string> gbufferTargets{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.normal"};
+    if (opt.positionFromGBuffer) gbufferTargets.emplace_back("gbuffer.position");
+    std::vector<std::string> created = gbufferTargets;
+    created.push_back(back);
+    created.emplace_back("depth");
+    created.emplace_back("heatmap");
+    if (opt.shading == Shading::Intel) created.emplace_back("lit");
+
+    Frame frame;
+    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
+                   const TiledOptions& o = setup->options;
+                   const std::uint32_t w = setup->width, h = setup->height;
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   if (o.positionFromGBuffer)
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   reg.create("depth", {w, h, depthFormat, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   reg.create("heatmap", {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(glm::vec4(0.0f));
+                   if (o.shading == Shading::Intel)
+                       reg.create("lit", {w, h, Format::R16G16B16A16_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+               }});
+
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+
+    std::vector<std::string> gbufferWrites = gbufferTargets;
+    gbufferWrites.emplace_back("depth");
+    frame.add({"gbuffer", gbufferWrites, gbufferWrites, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get("accumulation");
+                   rt.colors[1] = &reg.get("gbuffer.diffuse");
+                   rt.colors[2] = &reg.get("gbuffer.specular");
+                   rt.colors[3] = &reg.get("gbuffer.normal");
+                   if (setup->options.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
+                   rt.depthStencil = &reg.get("depth");
+                   // RT0 alpha = alpha * Opacity: forward's output alpha for the 3dgep compose.
+                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, stats, variantCounts);
+               }});
+
+    std::vector<std::string> tileReads = gbufferTargets;
+    tileReads.emplace_back("depth");
+    std::vector<std::string> tileWrites{"heatmap", "tiles.grid", "tiles.lightCount", "tiles.lightIndices", "tiles.depthRange"};
+    tileWrites.push_back(opt.shading == Shading::Intel ? std::string("lit") : back);
+    frame.add({"tiles", tileReads, tileWrites, [setup, device](BufferRegistry& reg) {
+                   TiledSetup& s = *setup;
+                   const Surface& depth = reg.get("depth");
+                   s.depth.resize(std::size_t(s.width) * s.height);
+                   for (std::uint32_t y = 0; y < s.height; ++y)
+                       for (std::uint32_t x = 0; x < s.width; ++x) s.depth[std::size_t(y) * s.width + x] = depth.loadDepth(x, y);
+                   s.depthView = DepthImageView{s.depth, s.width, s.height};
+                   s.accumulation = TargetReader(reg.get("accumulation"));
+                   s.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+                   s.specular = TargetReader(reg.get("gbuffer.specular"));
+                   s.normal = TargetReader(reg.get("gbuffer.normal"));
+                   if (s.options.positionFromGBuffer) s.position = TargetReader(reg.get("gbuffer.position"));
+                   s.back = &reg.get(kBackBufferName);
+                   s.heat = &reg.get("heatmap");
+                   s.lit = s.options.shading == Shading::Intel ? &reg.get("lit") : nullptr;
+                   switch (s.options.tileSize) {
+                   case 8: dispatchTiles<8>(s, *device); break;
+                   case 32: dispatchTiles<32>(s, *device); break;
+                   default: dispatchTiles<16>(s, *device); break;
+                   }
+                   // The lists, row-major by tile, the grid (offset, stored count) and the appended counts.
+                   std::size_t total = 0;
+                   for (const auto& l : s.lists) total += l.size();
+                   const std::uint32_t n = std::uint32_t(std::max<std::size_t>(total, 1));
+                   Surface& grid = reg.create("tiles.grid", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
+                   Surface& counts = reg.create("tiles.lightCount", {s.tiles.x, s.tiles.y, Format::R32_UINT, 1});
+                   Surface& ranges = reg.create("tiles.depthRange", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
+                   Surface& indices =
+                       reg.create("tiles.lightIndices", {std::min(n, kIndicesRow), (n + kIndicesRow - 1) / kIndicesRow, Format::R32_UINT, 1});
+                   indices.clearUint(glm::uvec4(0u));
+                   std::uint32_t offset = 0;
+                   for (std::uint32_t ty = 0; ty < s.tiles.y; ++ty)
+                       for (std::uint32_t tx = 0; tx < s.tiles.x; ++tx) {
+                           const std::size_t tile = std::size_t(ty) * s.tiles.x + tx;
+                           encodeTexelUint(Format::R32G32_UINT, glm::uvec4(offset, std::uint32_t(s.lists[tile].size()), 0u, 0u),
+                                           grid.texel(tx, ty));
+                           encodeTexelUint(Format::R32_UINT, glm::uvec4(s.appended[tile], 0u, 0u, 0u), counts.texel(tx, ty));
+                           encodeTexelUint(Format::R32G32_UINT, glm::uvec4(s.ranges[tile].minBits, s.ranges[tile].maxBits, 0u, 0u),
+                                           ranges.texel(tx, ty));
+                           for (const std::uint32_t index : s.lists[tile]) {
+                               encodeTexelUint(Format::R32_UINT, glm::uvec4(index, 0u, 0u, 0u),
+                                               indices.texel(offset % kIndicesRow, offset / kIndicesRow));
+                               ++offset;
+                           }
+                       }
+               }});
+
+    if (opt.shading == Shading::Intel) {
+        // SkyboxToneMapPS with MSAA_SAMPLES 1: the sky where depth is the cleared value (tessera: the
+        // clear colour instead of a sky box texture), else the lit value; identity tone map, alpha 1.
+        frame.add({"present", {"lit", "depth"}, {back}, [](BufferRegistry& reg) {
+                       const Surface& lit = reg.get("lit");
+                       const Surface& depth = reg.get("depth");
+                       Surface& backbuffer = reg.get(kBackBufferName);
+                       for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
+                           for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
+                               if (!(depth.loadDepth(x, y) < 1.0f)) continue;  // sky: keeps the clear colour
+                               const glm::vec4 v = lit.load(x, y);
+                               storeUnorm8(backbuffer, x, y, glm::vec4(v.x, v.y, v.z, 1.0f));
+                           }
+                   }});
+    }
+
+    // Transparent geometry: Intel's sample has none; tessera draws it as deferred does, with
+    // forward's TransparentPass (3dgep shading, every light) over the image and the G-buffer depth.
+    frame.add({"transparent", {back, "depth"}, {back}, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get(kBackBufferName);
+                   rt.depthStencil = &reg.get("depth");
+                   drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
+               }});
+    return frame;
+}
+
+} // namespace tessera
