@@ -9,11 +9,13 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <tessera/scene/scene_file.h>
 #include <tessera/techniques/technique.h>
 
 #include "support/golden_check.h"
+#include "support/surface_compare.h"
 
 namespace tessera::test {
 
@@ -64,8 +66,14 @@ private:
     std::unique_ptr<SceneResources> resources_;
 };
 
-inline bool sameBytes(const Surface& a, const Surface& b) {
-    return std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
+// The names of the bundled scenes (scenes/*.json), sorted.
+inline std::vector<std::string> bundledSceneNames() {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes"))
+        if (entry.path().extension() == ".json" && entry.path().filename() != "scene.schema.json")
+            names.push_back(entry.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 // Renders `technique` at 1 and 2 threads, checks that the back buffers hold the same bytes, and

@@ -14,130 +14,14 @@
 
 #include "tessera/io/input_error.h"
 #include "tessera/techniques/technique.h"
+
+#include "support/room_scene.h"
 #include "tessera/techniques/tiled_deferred.h"
 
 using namespace tessera;
+using namespace tessera::test;
 
 namespace {
-
-constexpr std::uint32_t kWidth = 128, kHeight = 96;
-
-MeshPrimitive quad(glm::vec3 origin, glm::vec3 edgeU, glm::vec3 edgeV, int material) {
-    MeshPrimitive p;
-    const glm::vec3 n = glm::normalize(glm::cross(edgeU, edgeV));
-    p.positionsObject = {origin, origin + edgeU, origin + edgeU + edgeV, origin + edgeV};
-    p.normalsObject = {n, n, n, n};
-    const glm::vec4 t(glm::normalize(edgeU), 1.0f);
-    p.tangentsObject = {t, t, t, t};
-    p.texCoords0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    p.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from the side n points to
-    p.material = material;
-    return p;
-}
-
-struct LightSpec {
-    LightType type;
-    glm::vec3 position, direction;
-    float range, angleDeg;
-};
-
-// Floor y = 0 (20 x 20 around the origin) and a wall z = -6, opaque glTF materials with
-// specular power 30 (roughness 0.5) and 245 (roughness 0.3, metallic 0.5); camera at (0, 3, 8)
-// looking at (0, 0.5, 0), 45 degrees, near 0.1, far 100.
-struct TestScene {
-    Scene scene;
-    Camera camera;
-};
-
-TestScene makeScene(const std::vector<Light>& lights, glm::vec3 eye = {0.0f, 3.0f, 8.0f}) {
-    TestScene t;
-    Material floor;
-    floor.baseColorFactor = {0.8f, 0.7f, 0.6f, 1.0f};
-    floor.roughnessFactor = 0.5f;
-    floor.metallicFactor = 0.0f;
-    Material wall;
-    wall.baseColorFactor = {0.5f, 0.6f, 0.9f, 1.0f};
-    wall.roughnessFactor = 0.3f;
-    wall.metallicFactor = 0.5f;
-    t.scene.materials = {floor, wall};
-    Mesh mesh;
-    mesh.primitives.push_back(quad({-10.0f, 0.0f, 10.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -20.0f}, 0));
-    mesh.primitives.push_back(quad({-10.0f, 0.0f, -6.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, 1));
-    t.scene.meshes.push_back(mesh);
-    t.scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "room"});
-    t.scene.lights = lights;
-    t.camera.positionWorld = eye;
-    t.camera.orientationWorld = glm::quatLookAtRH(glm::normalize(glm::vec3(0.0f, 0.5f, 0.0f) - eye), glm::vec3(0, 1, 0));
-    t.camera.nearZ = 0.1f;
-    t.camera.farZ = 100.0f;
-    return t;
-}
-
-Light makeLight(LightType type, glm::vec3 position, glm::vec3 direction, float range, glm::vec3 color, float angleDeg = 30.0f) {
-    Light l;
-    l.type = type;
-    l.positionWorld = position;
-    l.directionWorld = glm::normalize(direction);
-    l.range = range;
-    l.color = color;
-    l.spotHalfAngleDeg = angleDeg;
-    return l;
-}
-
-// Point and spot volumes well inside the view, away from the near plane; a dim directional.
-std::vector<Light> defaultLights() {
-    return {makeLight(LightType::Point, {-2.0f, 1.5f, 0.0f}, {0, 0, -1}, 5.0f, {1.0f, 0.8f, 0.6f}),
-            makeLight(LightType::Spot, {2.0f, 4.0f, -1.0f}, {-0.2f, -1.0f, -0.3f}, 8.0f, {0.6f, 0.8f, 1.0f}, 35.0f),
-            makeLight(LightType::Directional, {0, 0, 0}, {-0.3f, -1.0f, -0.5f}, 1.0f, {0.2f, 0.2f, 0.25f}),
-            makeLight(LightType::Point, {1.5f, 2.0f, -4.0f}, {0, 0, -1}, 4.0f, {0.9f, 0.3f, 0.3f})};
-}
-
-struct Rendered {
-    BufferRegistry registry;
-    std::map<std::string, std::uint64_t> variants;
-    const Surface& back() { return registry.get(kBackBufferName); }
-};
-
-void render(const TestScene& t, const std::string& technique, const nlohmann::json& options, Rendered& out,
-            Precision precision = Precision::Exact, std::uint32_t threads = 2) {
-    const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
-    Device device(DeviceConfig{32, threads});
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = t.camera;
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.options = options;
-    ctx.precision = precision;
-    ctx.variantCounts = &out.variants;
-    ctx.sceneFile = "memory.json";
-    buildTechnique(technique, ctx, ctx.sceneFile).run(out.registry);
-}
-
-struct Difference {
-    int maxCodes = 0;       // over R, G, B, A
-    int pixelsDiffering = 0;
-    double share() const { return double(pixelsDiffering) / double(kWidth * kHeight); }
-};
-
-Difference compareRgba8(const Surface& a, const Surface& b) {
-    Difference d;
-    for (std::uint32_t y = 0; y < kHeight; ++y)
-        for (std::uint32_t x = 0; x < kWidth; ++x) {
-            int worst = 0;
-            for (int c = 0; c < 4; ++c)
-                worst = std::max(worst, std::abs(std::to_integer<int>(a.texel(x, y)[c]) - std::to_integer<int>(b.texel(x, y)[c])));
-            d.maxCodes = std::max(d.maxCodes, worst);
-            d.pixelsDiffering += worst > 0;
-        }
-    return d;
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
-}
-
 
 // A tile's list: R32G32_UINT grid of (offset, stored count) into the R32_UINT indices.
 std::vector<std::uint32_t> tileList(BufferRegistry& reg, std::uint32_t tx, std::uint32_t ty) {

@@ -11,42 +11,18 @@
 #include <vector>
 
 #include <tessera/math/specular_power_packing.h>
-#include <tessera/scene/scene_file.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>
 #include <tessera/techniques/tiled_deferred.h>
+
+#include "support/bundled_scene.h"
 
 using namespace tessera;
 
 namespace {
 
 constexpr std::uint32_t kWidth = 160, kHeight = 90;
-
-struct Loaded {
-    SceneDescription desc;
-    Camera camera;
-    Scene scene;
-};
-
-BufferRegistry render(const Loaded& l, const SceneResources& resources, const nlohmann::json& options, std::uint32_t threads) {
-    Device device(DeviceConfig{64, threads});
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = l.camera;
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.options = options;
-    ctx.sceneFile = l.desc.file.string();
-    BufferRegistry registry;
-    buildTechnique("tiled-deferred", ctx, ctx.sceneFile).run(registry);
-    return registry;
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
-}
 
 struct BruteForce {
     std::uint64_t pairsChecked = 0;  // (pixel, light left out of its tile)
@@ -56,11 +32,11 @@ struct BruteForce {
 
 // Every enabled point / spot light that is not in the tile list of pixel (x, y) must add exactly
 // nothing there, evaluated with the same inputs the kernel uses.
-BruteForce bruteForce(BufferRegistry& reg, const Loaded& l, bool intel) {
-    const glm::mat4 view = l.camera.viewFromWorld();
-    const std::vector<ViewLight<float>> lights = viewLights<float>(l.scene.lights, view);
+BruteForce bruteForce(BufferRegistry& reg, const test::BundledScene& l, bool intel) {
+    const glm::mat4 view = l.camera().viewFromWorld();
+    const std::vector<ViewLight<float>> lights = viewLights<float>(l.scene().lights, view);
     const glm::mat4 projectionLh =
-        projectionLhFromRh(projection3dgep(l.camera, float(kWidth) / float(kHeight), ProjectionConvention::D3d));
+        projectionLhFromRh(projection3dgep(l.camera(), float(kWidth) / float(kHeight), ProjectionConvention::D3d));
     const Surface& depth = reg.get("depth");
     const Surface& normal = reg.get("gbuffer.normal");
     const Surface& diffuse = reg.get("gbuffer.diffuse");
@@ -114,18 +90,15 @@ BruteForce bruteForce(BufferRegistry& reg, const Loaded& l, bool intel) {
 
 std::uint64_t checkScene(const std::string& name) {
     std::uint64_t pairs = 0;
-    Loaded l;
-    l.desc = parseSceneFile(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / (name + ".json"));
-    l.scene = loadScene(l.desc, true, &l.camera);
-    const SceneResources resources(l.scene, {}, findTechnique("tiled-deferred")->textures);
+    const test::BundledScene l(name, kWidth, kHeight, findTechnique("tiled-deferred")->textures);
     for (const nlohmann::json& options :
          {nlohmann::json::object(), nlohmann::json{{"tilePlanes", "seed004"}},
           nlohmann::json{{"shading", "3dgep"}, {"position", "gbuffer"}}}) {
         CAPTURE(options.dump());
-        BufferRegistry one = render(l, resources, options, 1);
-        BufferRegistry two = render(l, resources, options, 2);
+        BufferRegistry one = l.render("tiled-deferred", 1, &options);
+        BufferRegistry two = l.render("tiled-deferred", 2, &options);
         for (const char* buffer : {"backbuffer", "heatmap", "tiles.grid", "tiles.lightCount", "tiles.lightIndices", "tiles.depthRange"})
-            CHECK_MESSAGE(sameBytes(one.get(buffer), two.get(buffer)), buffer);
+            CHECK_MESSAGE(test::sameBytes(one.get(buffer), two.get(buffer)), buffer);
         const bool intel = !options.contains("shading");
         const BruteForce r = bruteForce(one, l, intel);
         MESSAGE(name << " " << options.dump() << ": " << r.pairsChecked << " (pixel, culled light) pairs, " << r.inRange
@@ -139,11 +112,7 @@ std::uint64_t checkScene(const std::string& name) {
 } // namespace
 
 TEST_CASE("tiled-deferred on every bundled scene: lists are conservative (brute force) and thread-count independent") {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes"))
-        if (entry.path().extension() == ".json" && entry.path().filename() != "scene.schema.json")
-            names.push_back(entry.path().stem().string());
-    std::sort(names.begin(), names.end());
+    const std::vector<std::string> names = test::bundledSceneNames();
     REQUIRE(names.size() >= 3);
     std::uint64_t pairs = 0;
     for (const std::string& name : names) pairs += checkScene(name);
