@@ -2,6 +2,7 @@
 // over the scalar and the material's feature mask, its variant table, the texel-offset Sample of
 // the bump-mapping path, the UNORM texture set and the view-space light conversion.
 #include <tessera/shading/phong_material_shader.h>
+#include <tessera/shading/phong_surface.h>
 
 #include <array>
 #include <cmath>
@@ -21,25 +22,6 @@ inline float d3dMin(float a, float b) {
     return b < a ? b : a;
 }
 
-template <class T>
-Vec3<T> cross3(const Vec3<T>& a, const Vec3<T>& b) {  // HLSL cross: a.yzx * b.zxy - a.zxy * b.yzx
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-template <class T>
-Vec3<T> neg3(const Vec3<T>& v) {
-    return {-v.x, -v.y, -v.z};
-}
-// mul(v, float3x3(T, B, N)) with the rows T, B, N: v.x * T + v.y * B + v.z * N, left to right.
-template <class T>
-Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Vec3<T>& n) {
-    return (t * v.x + b * v.y) + n * v.z;
-}
-// The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
-template <class T>
-Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
-    const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
-    return any ? color * texel : texel;
-}
 
 inline std::uint32_t loadUint32(const std::byte* base, std::size_t element) {
     std::uint32_t value;
@@ -71,72 +53,17 @@ LightingResult<T> doLightingTile(const PhongShaderData<T>& d, const glm::vec4& p
 
 template <class T, std::uint32_t F>
 bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in, Vec4<T>& color) {
-    const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
-    const PhongVaryings& v = in.varyings;
+    PhongSurface<T> s;
+    if (!gatherPhongSurface<T, F>(d, in, s)) return false;
+    const Vec4<T> posView(Vec3<T>(in.varyings.posView), T(1));
+    const LightingResult<T> lit = d.tileLights ? doLightingTile<T>(d, in.posWindow, s.specularPower, posView, s.normalView)
+                                               : doLighting<T>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
 
-    // Diffuse, alpha (and the optional cut-out) first: a discarded pixel needs nothing else.
-    Vec4<T> diffuse = d.diffuseColor;
-    if constexpr ((F & kPhongDiffuseTexture) != 0)
-        if (d.diffuseTexture.bound()) diffuse = textureRule(diffuse, texel(d.diffuseTexture));
-    T alpha = d.ignoreDiffuseAlpha ? T(1) : diffuse.w;
-    if constexpr ((F & kPhongOpacityTexture) != 0)
-        if (d.opacityTexture.bound()) alpha = texel(d.opacityTexture).x;  // .r: 1-channel textures return a = 1
-    if constexpr ((F & kPhongAlphaTest) != 0)
-        if (alpha * d.opacity < d.alphaThreshold) return false;  // the demo's G-buffer PS test
-
-    Vec4<T> ambient = d.ambientColor;
-    if constexpr ((F & kPhongAmbientTexture) != 0)
-        if (d.ambientTexture.bound()) ambient = textureRule(ambient, texel(d.ambientTexture));
-    ambient *= d.globalAmbient;
-
-    Vec4<T> emissive = d.emissiveColor;
-    if constexpr ((F & kPhongEmissiveTexture) != 0)
-        if (d.emissiveTexture.bound()) emissive = textureRule(emissive, texel(d.emissiveTexture));
-
-    T specularPower = d.specularPower;
-    if constexpr ((F & kPhongSpecularPowerTexture) != 0)
-        if (d.specularPowerTexture.bound()) specularPower = texel(d.specularPowerTexture).x * d.specularScale;
-
-    Vec4<T> normalView;
-    bool mapped = false;
-    if constexpr ((F & kPhongNormalMap) != 0) {
-        if (d.normalTexture.bound()) {  // DoNormalMapping: normalize(mul(tex * 2 - 1, TBN))
-            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
-            const Vec3<T> b = hlsl::normalize(Vec3<T>(v.binormalView));
-            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
-            const Vec3<T> expanded = Vec3<T>(texel(d.normalTexture)) * T(2) - T(1);
-            normalView = hlsl::normalize(Vec4<T>(mulRowTbn(expanded, t, b, n), T(0)));
-            mapped = true;
-        }
-    }
-    if constexpr ((F & kPhongBumpMap) != 0) {
-        if (!mapped && d.bumpTexture.bound()) {  // DoBumpMapping with the negated binormal; NOT normalized
-            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
-            const Vec3<T> b = hlsl::normalize(neg3(Vec3<T>(v.binormalView)));
-            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
-            const T height = T(d.bumpTexture.sample(in).x) * d.bumpIntensity;
-            const T heightU = T(d.bumpTexture.sample(in, glm::ivec2(1, 0)).x) * d.bumpIntensity;
-            const T heightV = T(d.bumpTexture.sample(in, glm::ivec2(0, 1)).x) * d.bumpIntensity;
-            const Vec3<T> p{T(0), T(0), height}, pU{T(1), T(0), heightU}, pV{T(0), T(1), heightV};
-            const Vec3<T> normal = cross3(hlsl::normalize(pU - p), hlsl::normalize(pV - p));
-            normalView = Vec4<T>(mulRowTbn(normal, t, b, n), T(0));
-            mapped = true;
-        }
-    }
-    if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
-
-    const Vec4<T> posView(Vec3<T>(v.posView), T(1));
-    const LightingResult<T> lit = d.tileLights ? doLightingTile<T>(d, in.posWindow, specularPower, posView, normalView)
-                                               : doLighting<T>(d.lights, specularPower, posView, normalView, specularPower > T(1));
-
-    diffuse *= Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
-    Vec4<T> specular(T(0));
-    if (specularPower > T(1)) {  // specular ignored for power <= 1
-        specular = d.specularColor;
-        if constexpr ((F & kPhongSpecularTexture) != 0)
-            if (d.specularTexture.bound()) specular = textureRule(specular, texel(d.specularTexture));
-        specular *= lit.specular;
-    }
+    const Vec4<T> diffuse = s.diffuse * Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
+    // specular ignored for power <= 1
+    const Vec4<T> specular = s.specularPower > T(1) ? s.specular * lit.specular : Vec4<T>(T(0));
+    const Vec4<T> ambient = s.ambient, emissive = s.emissive;
+    const T alpha = s.alpha;
     const Vec4<T> sum = ((ambient + emissive) + diffuse) + specular;
     color = Vec4<T>(sum.x, sum.y, sum.z, alpha * d.opacity);
     return true;

@@ -19,6 +19,7 @@
 #include <tessera/io/input_error.h>
 #include <tessera/math/screen_to_view.h>
 #include <tessera/math/specular_power_packing.h>
+#include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/light_volumes.h>
@@ -52,25 +53,6 @@ struct DeferredOptions {
 // src/shading/phong_material_shader.cpp, the same operations in the same order, so that a float
 // G-buffer holds exactly the values forward shades with), the demo's discard, no lighting.
 
-template <class T>
-Vec3<T> cross3(const Vec3<T>& a, const Vec3<T>& b) {  // HLSL cross: a.yzx * b.zxy - a.zxy * b.yzx
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-template <class T>
-Vec3<T> neg3(const Vec3<T>& v) {
-    return {-v.x, -v.y, -v.z};
-}
-// mul(v, float3x3(T, B, N)) with the rows T, B, N: v.x * T + v.y * B + v.z * N, left to right.
-template <class T>
-Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Vec3<T>& n) {
-    return (t * v.x + b * v.y) + n * v.z;
-}
-// The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
-template <class T>
-Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
-    const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
-    return any ? color * texel : texel;
-}
 
 // What PS_Geometry computes for one pixel before packing it into the targets.
 struct GBufferSample {
@@ -84,72 +66,15 @@ struct GBufferSample {
 
 template <std::uint32_t F>
 bool gatherGBuffer(const PhongShaderData<float>& d, const PixelInput<PhongVaryings>& in, GBufferSample& s) {
-    using T = float;
-    const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
-    const PhongVaryings& v = in.varyings;
-
-    Vec4<T> diffuse = d.diffuseColor;
-    if constexpr ((F & kPhongDiffuseTexture) != 0)
-        if (d.diffuseTexture.bound()) diffuse = textureRule(diffuse, texel(d.diffuseTexture));
-    T alpha = d.ignoreDiffuseAlpha ? T(1) : diffuse.w;
-    if constexpr ((F & kPhongOpacityTexture) != 0)
-        if (d.opacityTexture.bound()) alpha = texel(d.opacityTexture).x;  // .r
-    if constexpr ((F & kPhongAlphaTest) != 0)
-        if (alpha * d.opacity < d.alphaThreshold) return false;  // PS_Geometry: discard
-
-    Vec4<T> ambient = d.ambientColor;
-    if constexpr ((F & kPhongAmbientTexture) != 0)
-        if (d.ambientTexture.bound()) ambient = textureRule(ambient, texel(d.ambientTexture));
-    ambient *= d.globalAmbient;
-
-    Vec4<T> emissive = d.emissiveColor;
-    if constexpr ((F & kPhongEmissiveTexture) != 0)
-        if (d.emissiveTexture.bound()) emissive = textureRule(emissive, texel(d.emissiveTexture));
-
-    T specularPower = d.specularPower;
-    if constexpr ((F & kPhongSpecularPowerTexture) != 0)
-        if (d.specularPowerTexture.bound()) specularPower = texel(d.specularPowerTexture).x * d.specularScale;
-
-    Vec4<T> normalView;
-    bool mapped = false;
-    if constexpr ((F & kPhongNormalMap) != 0) {
-        if (d.normalTexture.bound()) {  // DoNormalMapping: normalize(mul(tex * 2 - 1, TBN))
-            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
-            const Vec3<T> b = hlsl::normalize(Vec3<T>(v.binormalView));
-            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
-            const Vec3<T> expanded = Vec3<T>(texel(d.normalTexture)) * T(2) - T(1);
-            normalView = hlsl::normalize(Vec4<T>(mulRowTbn(expanded, t, b, n), T(0)));
-            mapped = true;
-        }
-    }
-    if constexpr ((F & kPhongBumpMap) != 0) {
-        if (!mapped && d.bumpTexture.bound()) {  // DoBumpMapping with the negated binormal; NOT normalized
-            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
-            const Vec3<T> b = hlsl::normalize(neg3(Vec3<T>(v.binormalView)));
-            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
-            const T height = T(d.bumpTexture.sample(in).x) * d.bumpIntensity;
-            const T heightU = T(d.bumpTexture.sample(in, glm::ivec2(1, 0)).x) * d.bumpIntensity;
-            const T heightV = T(d.bumpTexture.sample(in, glm::ivec2(0, 1)).x) * d.bumpIntensity;
-            const Vec3<T> p{T(0), T(0), height}, pU{T(1), T(0), heightU}, pV{T(0), T(1), heightV};
-            const Vec3<T> normal = cross3(hlsl::normalize(pU - p), hlsl::normalize(pV - p));
-            normalView = Vec4<T>(mulRowTbn(normal, t, b, n), T(0));
-            mapped = true;
-        }
-    }
-    if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
-
-    Vec4<T> specular(T(0));
-    if (specularPower > T(1)) {  // "If specular power is too low, don't use it."
-        specular = d.specularColor;
-        if constexpr ((F & kPhongSpecularTexture) != 0)
-            if (d.specularTexture.bound()) specular = textureRule(specular, texel(d.specularTexture));
-    }
-    s.ambientEmissive = ambient + emissive;
-    s.diffuse = diffuse;
-    s.specular = specular;
-    s.normalView = normalView;
-    s.alpha = alpha;
-    s.specularPower = specularPower;
+    PhongSurface<float> surface;
+    const bool kept = gatherPhongSurface<float, F>(d, in, surface);
+    s.diffuse = surface.diffuse;
+    s.alpha = surface.alpha;
+    if (!kept) return false;
+    s.ambientEmissive = surface.ambient + surface.emissive;
+    s.specular = surface.specular;
+    s.normalView = surface.normalView;
+    s.specularPower = surface.specularPower;
     return true;
 }
 

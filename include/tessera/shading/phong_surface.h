@@ -1,0 +1,129 @@
+// The 3dgep pixel shaders' material gathering (seed 000 §4; the demo's ForwardRendering.hlsl
+// PS_main and DeferredRendering.hlsl PS_Geometry share it): diffuse, alpha and the optional
+// cut-out, ambient, emissive, specular power and colour, the view-space normal with normal or
+// bump mapping, in the shaders' order of operations. Forward, Forward+ and the G-buffer run it.
+#pragma once
+
+#include <cstdint>
+
+#include <tessera/shading/phong_material_shader.h>
+
+namespace tessera {
+
+namespace phong_detail {
+
+template <class T>
+Vec3<T> cross3(const Vec3<T>& a, const Vec3<T>& b) {  // HLSL cross: a.yzx * b.zxy - a.zxy * b.yzx
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <class T>
+Vec3<T> neg3(const Vec3<T>& v) {
+    return {-v.x, -v.y, -v.z};
+}
+// mul(v, float3x3(T, B, N)) with the rows T, B, N: v.x * T + v.y * B + v.z * N, left to right.
+template <class T>
+Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Vec3<T>& n) {
+    return (t * v.x + b * v.y) + n * v.z;
+}
+// The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
+template <class T>
+Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
+    const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
+    return any ? color * texel : texel;
+}
+
+} // namespace phong_detail
+
+// One pixel's material inputs to the lighting, as the shaders hold them before lighting.
+template <class T>
+struct PhongSurface {
+    Vec4<T> diffuse;       // DiffuseColor with the texture rule (not yet lit)
+    T alpha;               // diffuse.a, or the opacity texture's .r
+    Vec4<T> ambient;       // AmbientColor (texture rule) * GlobalAmbient
+    Vec4<T> emissive;      // EmissiveColor (texture rule)
+    T specularPower;       // SpecularPower, or the texture's .r * SpecularScale
+    Vec4<T> specular;      // SpecularColor (texture rule) when specularPower > 1, else 0
+    Vec4<T> normalView;    // view-space N, w = 0 (bump mapped: not normalized)
+};
+
+// Gathers the surface of pixel `in` for material `d` with compile-time features F (kPhong*).
+// Returns false when the alpha test (kPhongAlphaTest) discards the pixel; then only diffuse
+// and alpha are set.
+template <class T, std::uint32_t F>
+bool gatherPhongSurface(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in, PhongSurface<T>& s) {
+    using namespace phong_detail;
+    const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
+    const PhongVaryings& v = in.varyings;
+
+    // Diffuse, alpha (and the optional cut-out) first: a discarded pixel needs nothing else.
+    Vec4<T> diffuse = d.diffuseColor;
+    if constexpr ((F & kPhongDiffuseTexture) != 0)
+        if (d.diffuseTexture.bound()) diffuse = textureRule(diffuse, texel(d.diffuseTexture));
+    T alpha = d.ignoreDiffuseAlpha ? T(1) : diffuse.w;
+    if constexpr ((F & kPhongOpacityTexture) != 0)
+        if (d.opacityTexture.bound()) alpha = texel(d.opacityTexture).x;  // .r: 1-channel textures return a = 1
+    if constexpr ((F & kPhongAlphaTest) != 0)
+        if (alpha * d.opacity < d.alphaThreshold) {  // PS_Geometry: discard
+            s.diffuse = diffuse;
+            s.alpha = alpha;
+            return false;
+        }
+
+    Vec4<T> ambient = d.ambientColor;
+    if constexpr ((F & kPhongAmbientTexture) != 0)
+        if (d.ambientTexture.bound()) ambient = textureRule(ambient, texel(d.ambientTexture));
+    ambient *= d.globalAmbient;
+
+    Vec4<T> emissive = d.emissiveColor;
+    if constexpr ((F & kPhongEmissiveTexture) != 0)
+        if (d.emissiveTexture.bound()) emissive = textureRule(emissive, texel(d.emissiveTexture));
+
+    T specularPower = d.specularPower;
+    if constexpr ((F & kPhongSpecularPowerTexture) != 0)
+        if (d.specularPowerTexture.bound()) specularPower = texel(d.specularPowerTexture).x * d.specularScale;
+
+    Vec4<T> normalView;
+    bool mapped = false;
+    if constexpr ((F & kPhongNormalMap) != 0) {
+        if (d.normalTexture.bound()) {  // DoNormalMapping: normalize(mul(tex * 2 - 1, TBN))
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(Vec3<T>(v.binormalView));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const Vec3<T> expanded = Vec3<T>(texel(d.normalTexture)) * T(2) - T(1);
+            normalView = hlsl::normalize(Vec4<T>(mulRowTbn(expanded, t, b, n), T(0)));
+            mapped = true;
+        }
+    }
+    if constexpr ((F & kPhongBumpMap) != 0) {
+        if (!mapped && d.bumpTexture.bound()) {  // DoBumpMapping with the negated binormal; NOT normalized
+            const Vec3<T> t = hlsl::normalize(Vec3<T>(v.tangentView));
+            const Vec3<T> b = hlsl::normalize(neg3(Vec3<T>(v.binormalView)));
+            const Vec3<T> n = hlsl::normalize(Vec3<T>(v.normalView));
+            const T height = T(d.bumpTexture.sample(in).x) * d.bumpIntensity;
+            const T heightU = T(d.bumpTexture.sample(in, glm::ivec2(1, 0)).x) * d.bumpIntensity;
+            const T heightV = T(d.bumpTexture.sample(in, glm::ivec2(0, 1)).x) * d.bumpIntensity;
+            const Vec3<T> p{T(0), T(0), height}, pU{T(1), T(0), heightU}, pV{T(0), T(1), heightV};
+            const Vec3<T> normal = cross3(hlsl::normalize(pU - p), hlsl::normalize(pV - p));
+            normalView = Vec4<T>(mulRowTbn(normal, t, b, n), T(0));
+            mapped = true;
+        }
+    }
+    if (!mapped) normalView = hlsl::normalize(Vec4<T>(Vec3<T>(v.normalView), T(0)));
+
+    Vec4<T> specular(T(0));
+    if (specularPower > T(1)) {  // "If specular power is too low, don't use it."
+        specular = d.specularColor;
+        if constexpr ((F & kPhongSpecularTexture) != 0)
+            if (d.specularTexture.bound()) specular = textureRule(specular, texel(d.specularTexture));
+    }
+    s.diffuse = diffuse;
+    s.alpha = alpha;
+    s.ambient = ambient;
+    s.emissive = emissive;
+    s.specularPower = specularPower;
+    s.specular = specular;
+    s.normalView = normalView;
+    return true;
+}
+
+} // namespace tessera
