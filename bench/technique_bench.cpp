@@ -5,13 +5,14 @@
 //
 // Usage: technique_bench [--techniques forward,deferred] [--scenario large|small]
 //                        [--lights 1,2,4,...] [--threads 1,2] [--frames 5] [--warmup 1]
-//                        [--width 1280 --height 720]
+//                        [--width 1280 --height 720] [--options '{"tileSize": 8}']
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
     std::vector<std::uint32_t> lightCounts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
     std::vector<std::uint32_t> threadCounts = {1, 2};
     std::uint32_t frames = 5, warmup = 1, width = 1280, height = 720;
+    std::optional<nlohmann::json> options;  // --options: technique options for every technique run
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (i + 1 >= argc) {
@@ -76,6 +78,13 @@ int main(int argc, char** argv) {
         else if (a == "--warmup") warmup = splitUints(a, v).at(0);
         else if (a == "--width") width = splitUints(a, v).at(0);
         else if (a == "--height") height = splitUints(a, v).at(0);
+        else if (a == "--options") {
+            options = nlohmann::json::parse(v, nullptr, false);
+            if (options->is_discarded() || !options->is_object()) {
+                std::fprintf(stderr, "--options: '%s' is not a JSON object\n", v.c_str());
+                return 2;
+            }
+        }
         else {
             std::fprintf(stderr, "unknown option %s\n", a.c_str());
             return 2;
@@ -129,9 +138,16 @@ int main(int argc, char** argv) {
                 ctx.camera = camera;
                 ctx.width = width;
                 ctx.height = height;
-                ctx.options = desc.techniqueOptions;
+                ctx.options = options ? *options : technique == desc.technique ? desc.techniqueOptions : nlohmann::json::object();
                 ctx.stats = &stats;
-                const Frame frame = buildTechnique(technique, ctx, file.string());
+                std::optional<Frame> built;
+                try {
+                    built.emplace(buildTechnique(technique, ctx, file.string()));
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "%s\n", e.what());
+                    return 2;
+                }
+                const Frame& frame = *built;
                 std::map<std::string, std::vector<double>> passMs;
                 std::vector<std::string> order;
                 std::vector<double> frameMs;

@@ -5,15 +5,20 @@
 # cells side by side. Writes the cells' markdown rows to --out, sorted. Used for bench/RESULTS.md.
 #
 # Usage: technique_sweep.py --bench PATH [--cores 16] [--scenario large|small|both]
-#                           [--techniques forward,deferred] [--frames 3] [--out rows.md]
+#                           [--techniques forward,deferred] [--frames 3] [--large-max 512]
+#                           [--small-max 2048] [--options JSON] [--out rows.md]
 import argparse
 import os
 import subprocess
 import sys
 import time
 
-LIGHTS = {"large": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512],
-          "small": [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048]}
+def doublings(top: int) -> list:
+    """1, 2, 4, ... up to top (the article's light counts)."""
+    counts = [1]
+    while counts[-1] * 2 <= top:
+        counts.append(counts[-1] * 2)
+    return counts
 
 
 def main() -> int:
@@ -24,10 +29,14 @@ def main() -> int:
     ap.add_argument("--techniques", default="forward,deferred")
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--frames", type=int, default=3)
+    ap.add_argument("--large-max", type=int, default=512, help="large lights: 1, 2, 4, ... up to this")
+    ap.add_argument("--small-max", type=int, default=2048, help="small lights: 1, 2, 4, ... up to this")
+    ap.add_argument("--options", default="", help="JSON technique options passed to technique_bench --options")
     ap.add_argument("--out", default="technique_sweep.md")
     args = ap.parse_args()
 
     scenarios = ["large", "small"] if args.scenario == "both" else [args.scenario]
+    LIGHTS = {"large": doublings(args.large_max), "small": doublings(args.small_max)}
     jobs = []  # (cost estimate, scenario, technique, lights, threads)
     for scenario in scenarios:
         for technique in args.techniques.split(","):
@@ -51,7 +60,7 @@ def main() -> int:
                     _, scenario, technique, lights, threads = job
                     cmd = ["taskset", "-c", ",".join(map(str, cores)), args.bench, "--techniques", technique,
                            "--scenario", scenario, "--lights", str(lights), "--threads", str(threads),
-                           "--frames", str(args.frames), "--warmup", "1"]
+                           "--frames", str(args.frames), "--warmup", "1"] + (["--options", args.options] if args.options else [])
                     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
                     running.append((proc, cores, job, time.time()))
                     del jobs[i]
