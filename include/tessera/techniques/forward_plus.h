@@ -1,7 +1,7 @@
 // The `forward-plus` technique of seed 000 (3dgep tiled forward shading, §6; the demo's
 // ForwardPlusRendering.hlsl and g_ForwardPlusTechnique): clear, depth pre-pass, grid frustums,
 // the light-culling dispatch (per-tile depth range, opaque and transparent light lists, light
-// grids, heat map), then forward's opaque and transparent passes reading the tile's list.
+// grids), the heat map, then forward's opaque and transparent passes reading the tile's list.
 #pragma once
 
 #include <array>
@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include <tessera/inspect/buffer_registry.h>
+#include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>
 
 namespace tessera {
@@ -45,8 +46,10 @@ namespace tessera {
 //       lists are identical (tests/golden/forward_plus_scenes_test.cpp). brute: every tile
 //       tests every light, the demo's `for (i = groupIndex; i < NUM_LIGHTS; i += 256)`.
 //       binned (tessera): a pre-pass bounds each light's tiles by a padded, conservative test
-//       against the tile-column and tile-row planes, and each tile tests only those lights,
-//       in the same ascending order.
+//       against the tile-column and tile-row planes (a binary search; for a light reaching the
+//       eye's plane every column and row, kept as up to two runs), and each tile tests only
+//       those lights, in the same ascending order: per tile row in parallel, no thread groups
+//       (forward_plus.cpp "row-parallel culling"); the scratch is kept from frame to frame.
 // Light order inside a tile list: ascending light index (the strided loop appends in lockstep,
 // compute/dispatch.h order rule 2); tiles take their global offsets in row-major order
 // (compute/ordered_counter.h), at any thread count.
@@ -63,7 +66,10 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusOptionKeys{
 //   "lightindex.opaque", "lightindex.transparent" R32_UINT: the global light index lists,
 //                           element e at texel (e % W, e / W), W = min(capacity, 16384)
 //   "heatmap"               R32G32B32A32_FLOAT, the screen size: the demo's DebugTexture (tile
-//                           grid lines, then LightCountHeatMap(o_LightCount / 50))
+//                           grid lines, then LightCountHeatMap(o_LightCount / 50)). The demo's
+//                           culling CS writes it; tessera writes the same texels in a pass of
+//                           its own ("heatmap", after "light-culling") from the opaque grid's
+//                           counts, so that the culling pass's time is the culling's.
 //   "lightlist.counters"    R32_UINT, 8 x 2: row 0 opaque, row 1 transparent, the fields of
 //                           LightListCounters in order
 // Precision reference and fast are InputErrors naming "/precision".
@@ -100,5 +106,11 @@ ForwardPlusCounters readForwardPlusCounters(const BufferRegistry& registry);
 // (i + 0.5) / 5, weights in float): 1-10 lights blue, 20-30 green (the article's caption),
 // 50 and more red.
 glm::vec4 forwardPlusHeatMapColor(std::uint32_t lightCount);
+
+// The demo's depth pre-pass (g_pDepthPrepassPipeline) as forward-plus draws it: the opaque draw
+// items, VS only (with `setup.alphaTest` the alpha-test PS, nothing written), depth LESS with
+// writes, cull back (glTF doubleSided: none). Shared with forward-plus-amd.
+void drawForwardPlusDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& resources,
+                                 Surface& depthSurface, DrawStats* stats);
 
 } // namespace tessera
