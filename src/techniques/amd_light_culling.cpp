@@ -27,6 +27,10 @@ struct AmdCullShared {
     std::uint32_t lightIdxCounter;                          // ldsLightIdxCounter
     std::uint32_t lightIdxStart;                            // ldsLightIdxStart
     std::array<std::uint32_t, kAmdLightCapacity> lightIdx; // ldsLightIdx[LIGHT_CAPACITY]
+    // Half-Z list B (TiledLighting11's second per-tile list).
+    std::uint32_t lightIdxCounterFar;
+    std::uint32_t lightIdxStartFar;
+    std::array<std::uint32_t, kAmdLightCapacity> lightIdxFar;
 };
 
 struct AmdCullKernel {
@@ -44,7 +48,7 @@ struct AmdCullKernel {
     bool viewZ(float d, float& z) const {
         if (options.depthConvention == AmdDepthConvention::GpuPro4) {
             z = clipToView(glm::vec4(0.0f, 0.0f, d, 1.0f), inverseProjection).z;
-            return d != 1.0f;
+            return options.range == AmdDepthRange::NearToMax || d != 1.0f;  // NearToMax: cleared = far plane
         }
         z = 1.0f / (d * inverseProjection[2][3] + inverseProjection[3][3]);
         return d != 0.0f;
@@ -66,6 +70,7 @@ struct AmdCullKernel {
             s.zMaxBits = 0u;
             s.depthMask = 0u;
             s.lightIdxCounter = 0u;
+            s.lightIdxCounterFar = 0u;
         });
         g.forEachThread([&](const compute::ThreadIds& t) {
             const float d = depth->load(t.dispatchThreadId.x, t.dispatchThreadId.y);
@@ -77,9 +82,12 @@ struct AmdCullKernel {
                 compute::interlockedMin(s.zMinBits, std::bit_cast<std::uint32_t>(z));
             }
         });
+        if (options.range == AmdDepthRange::NearToMax)  // the near plane's view z (depth 0)
+            s.zMinBits = std::bit_cast<std::uint32_t>(clipToView(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), inverseProjection).z);
         const float maxZ = std::bit_cast<float>(s.zMaxBits);
         const float minZ = std::bit_cast<float>(s.zMinBits);
-        const bool mask25D = options.depthCulling == AmdDepthCulling::DepthMask25D;
+        const bool mask25D = options.depthCulling == AmdDepthCulling::DepthMask25D && options.range == AmdDepthRange::Opaque;
+        const bool halfZ = options.halfZ && options.range == AmdDepthRange::Opaque;
         const float pitch = depthMaskPitch(minZ, maxZ);
         if (mask25D) {
             g.forEachThread([&](const compute::ThreadIds& t) {
@@ -91,14 +99,32 @@ struct AmdCullKernel {
             const float radius = lights[i].w;
             if (!sphereOverlapsTileAmd(center, radius, eqn, minZ, maxZ)) return;
             if (mask25D && !depthMasksOverlap(lightDepthMask(center.z, radius, minZ, pitch), s.depthMask)) return;
+            bool nearList = true;
+            if (halfZ) {  // DoLightCulling: list A over [minZ, halfZ], list B over [halfZ, maxZ]
+                const HalfZOverlap halves = sphereOverlapsHalfZAmd(center.z, radius, minZ, maxZ);
+                nearList = halves.nearHalf;
+                if (halves.farHalf) {
+                    const std::uint32_t dstFar = compute::interlockedAdd(s.lightIdxCounterFar, 1u);
+                    if (dstFar < kAmdLightCapacity) s.lightIdxFar[dstFar] = i;
+                }
+            }
+            if (!nearList) return;
             const std::uint32_t dstIdx = compute::interlockedAdd(s.lightIdxCounter, 1u);
             if (dstIdx < kAmdLightCapacity) s.lightIdx[dstIdx] = i;
         });
         g.forOneThread(0, [&](const compute::ThreadIds&) {
             const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
+            const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
             std::uint32_t startOffset = 0;
-            if (count != 0) startOffset = poolCounter->reserve(g, count);
+            if (count + countFar != 0) startOffset = poolCounter->reserve(g, count + countFar);
             s.lightIdxStart = startOffset;
+            s.lightIdxStartFar = countFar != 0 ? startOffset + count : 0u;
+            if (halfZ) {
+                out->tileOffsetFar[tileIndex] = s.lightIdxStartFar;
+                out->tileLightCountFar[tileIndex] = countFar;
+                out->tileFoundCountFar[tileIndex] = s.lightIdxCounterFar;
+            }
+            if (count == 0) startOffset = 0;  // a list with no lights keeps offset 0
             out->tileOffset[tileIndex] = startOffset;  // ptLowerBound[tileIdx]
             out->tileLightCount[tileIndex] = count;
             out->tileFoundCount[tileIndex] = s.lightIdxCounter;
@@ -107,9 +133,12 @@ struct AmdCullKernel {
             out->tileDepthMask[tileIndex] = s.depthMask;
         });
         const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
+        const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
         g.forEachThread([&](const compute::ThreadIds& t) {
             for (std::uint32_t i = t.groupIndex; i < count; i += kThreadsPerTile)
                 out->lightIndices[s.lightIdxStart + i] = s.lightIdx[i];
+            for (std::uint32_t i = t.groupIndex; i < countFar; i += kThreadsPerTile)
+                out->lightIndices[s.lightIdxStartFar + i] = s.lightIdxFar[i];
         });
     }
 };
@@ -129,8 +158,14 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
     out.tileMinZBits.assign(tiles, 0u);
     out.tileMaxZBits.assign(tiles, 0u);
     out.tileDepthMask.assign(tiles, 0u);
-    // Worst case: every tile full. Trimmed to the counter after the dispatch.
-    out.lightIndices.assign(tiles * std::min<std::size_t>(kAmdLightCapacity, lightsViewLh.size()), 0u);
+    const bool halfZ = options.halfZ && options.range == AmdDepthRange::Opaque;
+    if (halfZ) {
+        out.tileOffsetFar.assign(tiles, 0u);
+        out.tileLightCountFar.assign(tiles, 0u);
+        out.tileFoundCountFar.assign(tiles, 0u);
+    }
+    // Worst case: every tile (both lists) full. Trimmed to the counter after the dispatch.
+    out.lightIndices.assign(tiles * (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, lightsViewLh.size()), 0u);
 
     compute::OrderedCounter poolCounter(0);  // gLightIdxCounter
     compute::OrderedCounter* counters[] = {&poolCounter};
@@ -151,6 +186,10 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
         if (out.tileFoundCount[t] > kAmdLightCapacity) {
             ++out.overflowTiles;
             out.droppedLights += out.tileFoundCount[t] - kAmdLightCapacity;
+        }
+        if (halfZ && out.tileFoundCountFar[t] > kAmdLightCapacity) {
+            ++out.overflowTilesFar;
+            out.droppedLightsFar += out.tileFoundCountFar[t] - kAmdLightCapacity;
         }
     }
     return out;

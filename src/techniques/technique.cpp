@@ -9,6 +9,7 @@
 #include <tessera/techniques/deferred.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
+#include <tessera/techniques/forward_plus_amd.h>
 #include <tessera/techniques/preview.h>
 #include <tessera/techniques/tiled_deferred.h>
 
@@ -28,7 +29,9 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear},
     {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid", "3dgep (seed 000)",
      &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear},
-    {"forward-plus-amd", "AMD Forward+ with 2.5D culling", "GPU Pro 4 (seed 002)", nullptr, kNoOptions},
+    {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
+     "GPU Pro 4 (seed 002) + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, kForwardPlusAmdOptionKeys,
+     TexturePolicy::AllLinear},
     {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel (seed 004)", &buildTiledDeferred,
      kTiledDeferredOptionKeys, TexturePolicy::AllLinear},
     {"deferred-cookbook", "HLSL Development Cookbook deferred lighting", "seed 001", nullptr, kNoOptions},

@@ -34,9 +34,24 @@ enum class AmdDepthCulling : std::uint8_t {
     DepthMask25D, // + seed 002 §6: the light's depth mask must share a cell with the tile's
 };
 
+// Which depth slab a tile's lights must reach.
+enum class AmdDepthRange : std::uint8_t {
+    Opaque,     // [minZ, maxZ] of the tile's non-cleared pixels (seed 002 §2.3)
+    NearToMax,  // [near plane, maxZ] with cleared pixels entering the maximum as the far plane:
+                // the list for blended geometry, which lies anywhere in front of the opaque depth
+                // (tessera; TiledLighting11 takes the minimum from a blended-depth pre-pass instead,
+                // reference-implementations.md §2.2). GpuPro4 convention only; no 2.5D, no half-Z.
+};
+
 struct AmdCullingOptions {
     AmdDepthConvention depthConvention = AmdDepthConvention::GpuPro4;
     AmdDepthCulling depthCulling = AmdDepthCulling::MinMax;
+    AmdDepthRange range = AmdDepthRange::Opaque;
+    // TiledLighting11's half-Z split (math/depth_mask.h sphereOverlapsHalfZAmd): two lists per
+    // tile, A over [minZ, halfZ] (tileOffset / tileLightCount) and B over [halfZ, maxZ]
+    // (tileOffsetFar / tileLightCountFar), each its own group-shared list of LIGHT_CAPACITY; the
+    // tile reserves countA + countB pool entries, A first. With 2.5D the mask test applies too.
+    bool halfZ = false;
     AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (seed 002's reading)
     compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (OrderedCounter)
 };
@@ -56,11 +71,18 @@ struct AmdTileLightLists {
     std::vector<std::uint32_t> tileMinZBits;     // ldsZMin, ldsZMax (asuint of LH view z)
     std::vector<std::uint32_t> tileMaxZBits;
     std::vector<std::uint32_t> tileDepthMask;    // the 2.5D mask (0 when MinMax)
-    std::uint32_t overflowTiles = 0;             // tiles that found more than 256 lights
+    // Half-Z only (empty otherwise): list B of each tile, as the three vectors above.
+    std::vector<std::uint32_t> tileOffsetFar, tileLightCountFar, tileFoundCountFar;
+    std::uint32_t overflowTiles = 0;             // tiles that found more than 256 lights (per list)
     std::uint64_t droppedLights = 0;             // lights lost to the 256 cap, summed over tiles
+    std::uint32_t overflowTilesFar = 0;          // half-Z list B: the same counts
+    std::uint64_t droppedLightsFar = 0;
 
     std::span<const std::uint32_t> tileLights(std::uint32_t tileIndex) const {
         return std::span<const std::uint32_t>(lightIndices).subspan(tileOffset[tileIndex], tileLightCount[tileIndex]);
+    }
+    std::span<const std::uint32_t> tileLightsFar(std::uint32_t tileIndex) const {
+        return std::span<const std::uint32_t>(lightIndices).subspan(tileOffsetFar[tileIndex], tileLightCountFar[tileIndex]);
     }
 };
 

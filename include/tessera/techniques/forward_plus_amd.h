@@ -1,0 +1,86 @@
+// The `forward-plus-amd` technique of seed 002 (GPU Pro 4 Forward+, with AMD's ForwardPlus11 /
+// TiledLighting11 demos where the chapter is silent): clear, depth pre-pass, the 8x8 culling
+// dispatch (techniques/amd_light_culling.h: two-level list, 2.5D, optional half-Z), final shading
+// with AMD's lighting (shading/amd_lighting.h) or the 3dgep Phong shader over the AMD lists.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include <glm/glm.hpp>
+
+#include <tessera/techniques/technique.h>
+
+namespace tessera {
+
+// Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY):
+//   "shading": "amd" (default) | "3dgep"
+//       amd: ForwardPlus11's RenderScenePS (amd_lighting.h) in world space: falloff
+//       -0.05 + 1.05/(1 + 20x^2), Lambert + Blinn-Phong power 8, squared spot cone, x2 / x8 pump,
+//       up/down ambient, out = DiffuseTex.rgb * ((D + A) + S * DiffuseTex.a). DiffuseTex is the
+//       3dgep material's diffuse (colour x texture, the same rule as phong_material_shader.h);
+//       the normal is the interpolated vertex normal (tessera: no normal map; ForwardPlus11 reads
+//       one). Lists: points first, then spots, each in ascending light index, as the demo's two
+//       loops. Directional lights: AMD has none; they are listed (infinite sphere) but not shaded.
+//       3dgep: the article's Phong PS (forward.h drawForwardPass) reading the AMD list through
+//       TileLightList (tile 8 px): on opaque geometry the image equals `forward` bit for bit.
+//   "culling": "depth-mask" (default, GPU Pro 4 §5.6.1 2.5D) | "min-max" (side planes + slab)
+//   "halfZ": false (default) | true   TiledLighting11's two lists per tile; a pixel reads list
+//       A iff its view z < (minZ + maxZ) / 2 (depth_mask.h pixelUsesNearHalfAmd), its view z
+//       being clipToView(0, 0, SV_Position.z, 1).z with the culling's inverse projection.
+//       Needs "shading": "amd" (the 3dgep PS reads one list per tile): InputError otherwise.
+//   "projection": "d3d" (default for shading amd) | "demo-gl" (default for shading 3dgep), as
+//       forward.h. The culling runs in AMD's LEFT-handed view space: P_lh = P_rh * diag(1,1,-1,1)
+//       (the same clip coordinates, view z negated), inverse(P_lh) for projToView.
+//   "sampler": "demo" | "gltf", "alphaTest": false | true   as forward.
+// Depth: GPU Pro 4's convention (cleared to 1.0, pre-pass LESS, shading LESS_EQUAL without a
+// second write); ForwardPlus11's reversed depth is not modelled here.
+// Transparent (blended) geometry: neither GPU Pro 4 nor ForwardPlus11 shade it; tessera draws it
+// after the opaque pass as forward does (alpha blend, no depth write, cull none) with a second
+// list per tile over [near plane, maxZ] (cleared pixels count as the far plane; MinMax only), the
+// choice of 3dgep's transparent list. Shading amd outputs alpha = DiffuseTex.a * Opacity there.
+inline constexpr std::array<std::string_view, 6> kForwardPlusAmdOptionKeys{"shading", "culling", "halfZ",
+                                                                           "projection", "sampler", "alphaTest"};
+
+// Buffers (--dump writes them all; tiles = ceil(W / 8) x ceil(H / 8)):
+//   "backbuffer" R8G8B8A8_UNORM, "depth" D24_UNORM_S8_UINT (the pre-pass depth)
+//   "lightgrid.opaque"      R32G32_UINT, tiles: (ptLowerBound, count) of the opaque list (half-Z:
+//                           list A, the near half)
+//   "lightgrid.opaque.far"  R32G32_UINT, tiles: half-Z list B (only with halfZ)
+//   "lightindex.opaque"     R32_UINT: gLightIdx, the global pool (element e at (e % W, e / W),
+//                           W = min(entries, 16384)); half-Z: each tile's A entries, then its B
+//   "lightgrid.transparent", "lightindex.transparent"   the [near, maxZ] lists, same layout
+//   "tiles.depthRange"      R32G32_UINT, tiles: asuint of (ldsZMin, ldsZMax), LH view z
+//   "tiles.depthMask"       R32_UINT, tiles: the 2.5D occupancy mask (0 with culling min-max)
+//   "heatmap.radar"         R8G8B8A8_UNORM, the screen size: ForwardPlus11's radar colour of the
+//                           tile's unclamped count (half-Z: the larger of A and B) against the
+//                           maximum LIGHT_CAPACITY = 256: 0 black, 256 light purple, > 256 white
+//   "lightlist.counters"    R32_UINT, 8 x 3: LightListCounters (forward_plus.h) rows: opaque
+//                           (A), transparent, opaque far (B; zeros without half-Z).
+//                           requested = pool entries used, capacity = pool entries,
+//                           tilesOverLocal / droppedLocal = tiles past LIGHT_CAPACITY and the
+//                           lights they lost, global fields 0 (the pool is sized to fit),
+//                           maxTileCount = largest unclamped count, nonEmptyTiles.
+// Precision reference and fast are InputErrors naming "/precision".
+Frame buildForwardPlusAmd(const TechniqueContext& context);
+
+// The smallest sphere around a spot light's lit region: the spherical sector of radius R (the
+// range) and half angle theta about the axis, apex at the light. Centre on the axis at distance
+// `centerOffset` from the apex. Derivation (tests/unit/forward_plus_amd_test.cpp checks it against
+// sampled sector points): a sphere centred at distance h on the axis must reach the apex (h) and
+// the rim circle (distance^2 = R^2 + h^2 - 2 R h cos(theta)); every other sector point is nearer
+// (for points at range R the distance grows with the angle to the axis, up to theta; along a
+// straight edge it is convex, so largest at an end). Equal distances give h = R / (2 cos theta),
+// the minimum while h <= R cos(theta), i.e. theta <= 45 deg: radius = h = R / (2 cos theta).
+// For 45 < theta < 90 deg the rim distance is least at h = R cos(theta): radius R sin(theta),
+// which also covers the apex (cos <= sin) and the cap tip (R (1 - cos) <= R sin). theta >= 90 deg
+// (not convex): the apex sphere, h = 0, radius R. The radius is rounded up by 2^-20 relative so
+// that float rounding of the centre cannot leave a rim point outside.
+struct SpotBoundingSphere {
+    float centerOffset = 0.0f;  // along the spot direction from the apex, world / view units
+    float radius = 0.0f;
+};
+SpotBoundingSphere spotBoundingSphere(float range, float halfAngleDeg);
+
+} // namespace tessera
