@@ -344,9 +344,15 @@ int main(int argc, char** argv) {
                                 std::snprintf(buf, sizeof buf, "%s%s %.2f", passes.empty() ? "" : ", ", name.c_str(), median(passMs[name]));
                                 passes += buf;
                             }
-                            const ProjectionConvention projection =
-                                ctx.options.value("projection", std::string("demo-gl")) == "d3d" ? ProjectionConvention::D3d
-                                                                                                : ProjectionConvention::DemoGl;
+                            // The technique's default projection: demo-gl, except forward-plus-amd
+                            // with its own shading, which culls and draws with the D3D matrix
+                            // (forward_plus_amd.h).
+                            const bool amdShading =
+                                technique == "forward-plus-amd" && ctx.options.value("shading", std::string("amd")) == "amd";
+                            const std::string defaultProjection = amdShading ? "d3d" : "demo-gl";
+                            const ProjectionConvention projection = ctx.options.value("projection", defaultProjection) == "d3d"
+                                                                        ? ProjectionConvention::D3d
+                                                                        : ProjectionConvention::DemoGl;
                             const std::shared_ptr<ForwardPassSetup> setup =
                                 makeForwardPassSetup(ctx, projection, PhongSamplerChoice::Demo, false);
                             ListStats ls;
