@@ -19,40 +19,14 @@
 #include <tessera/scene/scene_file.h>
 #include <tessera/techniques/technique.h>
 
+#include "bench_support.h"
+
 namespace {
 
 using namespace tessera;
-
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (start <= s.size()) {
-        const std::size_t end = std::min(s.find(',', start), s.size());
-        if (end > start) out.push_back(s.substr(start, end - start));
-        start = end + 1;
-    }
-    return out;
-}
-
-std::vector<std::uint32_t> splitUints(const std::string& flag, const std::string& s) {
-    std::vector<std::uint32_t> out;
-    for (const std::string& item : splitList(s)) {
-        char* tail = nullptr;
-        const unsigned long v = std::strtoul(item.c_str(), &tail, 10);
-        if (*tail != '\0' || v > 1000000) {
-            std::fprintf(stderr, "%s: '%s' is not a count in 0..1000000\n", flag.c_str(), item.c_str());
-            std::exit(2);
-        }
-        out.push_back(std::uint32_t(v));
-    }
-    return out;
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using bench::median;
+using bench::split;
+using bench::splitUints;
 
 } // namespace
 
@@ -70,7 +44,7 @@ int main(int argc, char** argv) {
             return 2;
         }
         const std::string v = argv[++i];
-        if (a == "--techniques") techniquesToRun = splitList(v);
+        if (a == "--techniques") techniquesToRun = split(v, ',');
         else if (a == "--scenario") scenario = v;
         else if (a == "--lights") lightCounts = splitUints(a, v);
         else if (a == "--threads") threadCounts = splitUints(a, v);

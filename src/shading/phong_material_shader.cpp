@@ -69,28 +69,12 @@ bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in
     return true;
 }
 
-constexpr std::array<std::uint32_t, 5> kAxes{kPhongAmbientTexture, kPhongEmissiveTexture, kPhongDiffuseTexture,
-                                             kPhongNormalMap, kPhongAlphaTest};
-static_assert((kAxes[0] | kAxes[1] | kAxes[2] | kAxes[3] | kAxes[4]) == kPhongSpecializedAxes);
-
-constexpr std::uint32_t maskOfIndex(std::size_t index) {
-    std::uint32_t mask = 0;
-    for (std::size_t b = 0; b < kAxes.size(); ++b)
-        if ((index >> b) & 1u) mask |= kAxes[b];
-    return mask;
-}
-constexpr std::size_t indexOfMask(std::uint32_t mask) {
-    std::size_t index = 0;
-    for (std::size_t b = 0; b < kAxes.size(); ++b)
-        if ((mask & kAxes[b]) != 0) index |= std::size_t(1) << b;
-    return index;
-}
 
 template <std::size_t... I>
 constexpr std::array<PhongShadeFn<float>, sizeof...(I)> makeExactTable(std::index_sequence<I...>) {
-    return {&shadePhong<float, maskOfIndex(I)>...};
+    return {&shadePhong<float, phongVariantMask(I)>...};
 }
-constexpr auto kExactTable = makeExactTable(std::make_index_sequence<std::size_t(1) << kAxes.size()>{});
+constexpr auto kExactTable = makeExactTable(std::make_index_sequence<kPhongVariantCount>{});
 
 } // namespace
 
@@ -155,7 +139,7 @@ PhongVariant selectPhongVariant<float>(std::uint32_t features) {
     PhongVariant v;
     v.mayDiscard = (features & kPhongAlphaTest) != 0;
     if ((features & ~kPhongSpecializedAxes) == 0) {
-        v.exact = kExactTable[indexOfMask(features)];
+        v.exact = kExactTable[phongVariantIndex(features)];
         v.name = "exact:";
         v.name += phongFeatureNames(features);
     } else {

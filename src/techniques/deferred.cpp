@@ -15,7 +15,7 @@
 
 #include <glm/ext/matrix_clip_space.hpp>
 
-#include <tessera/buffers/texel_codec.h>
+#include <tessera/buffers/target_reader.h>
 #include <tessera/io/input_error.h>
 #include <tessera/math/screen_to_view.h>
 #include <tessera/math/specular_power_packing.h>
@@ -28,9 +28,6 @@
 namespace tessera {
 namespace {
 
-// The demo's clear (main.cpp g_ClearColor), applied to every G-buffer target too
-// (ClearRenderTargetPass(g_pGBufferRenderTarget, ClearFlags::All, g_ClearColor, 1, 0)).
-constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 // "killzone.samples" row length, texels (kMaxSurfaceDimension).
 constexpr std::uint32_t kSamplesRow = 16384;
 
@@ -80,28 +77,11 @@ bool gatherGBuffer(const PhongShaderData<float>& d, const PixelInput<PhongVaryin
 
 using GatherFn = bool (*)(const PhongShaderData<float>&, const PixelInput<PhongVaryings>&, GBufferSample&);
 
-// The same specialization axes as forward's variants (phong_material_shader.h).
-constexpr std::array<std::uint32_t, 5> kAxes{kPhongAmbientTexture, kPhongEmissiveTexture, kPhongDiffuseTexture,
-                                             kPhongNormalMap, kPhongAlphaTest};
-static_assert((kAxes[0] | kAxes[1] | kAxes[2] | kAxes[3] | kAxes[4]) == kPhongSpecializedAxes);
-
-constexpr std::uint32_t maskOfIndex(std::size_t index) {
-    std::uint32_t mask = 0;
-    for (std::size_t b = 0; b < kAxes.size(); ++b)
-        if ((index >> b) & 1u) mask |= kAxes[b];
-    return mask;
-}
-constexpr std::size_t indexOfMask(std::uint32_t mask) {
-    std::size_t index = 0;
-    for (std::size_t b = 0; b < kAxes.size(); ++b)
-        if ((mask & kAxes[b]) != 0) index |= std::size_t(1) << b;
-    return index;
-}
 template <std::size_t... I>
 constexpr std::array<GatherFn, sizeof...(I)> makeGatherTable(std::index_sequence<I...>) {
-    return {&gatherGBuffer<maskOfIndex(I)>...};
+    return {&gatherGBuffer<phongVariantMask(I)>...};
 }
-constexpr auto kGatherTable = makeGatherTable(std::make_index_sequence<std::size_t(1) << kAxes.size()>{});
+constexpr auto kGatherTable = makeGatherTable(std::make_index_sequence<kPhongVariantCount>{});
 
 struct GatherVariant {
     GatherFn fn = nullptr;
@@ -113,7 +93,7 @@ GatherVariant selectGather(std::uint32_t features) {
     GatherVariant v;
     v.mayDiscard = (features & kPhongAlphaTest) != 0;
     if ((features & ~kPhongSpecializedAxes) == 0) {
-        v.fn = kGatherTable[indexOfMask(features)];
+        v.fn = kGatherTable[phongVariantIndex(features)];
         v.name = "gbuffer:";
         v.name += phongFeatureNames(features);
     } else {
@@ -177,39 +157,6 @@ const std::array<VolumeVertex, 4> kScreenQuad{{{{-1.0f, -1.0f, -1.0f}}, {{1.0f, 
 const std::array<std::uint32_t, 6> kScreenQuadIndices{0, 1, 2, 0, 2, 3};
 
 // ---------------------------------------------------------------------------------------------
-// G-buffer reads (Texture2D.Load at mip 0): R8G8B8A8_UNORM through a 256-entry table made by the
-// format's own decoder (so the values are decodeTexel's), R32G32B32A32_FLOAT as stored.
-
-class TargetReader {
-public:
-    TargetReader() = default;
-    explicit TargetReader(const Surface& s) : mSurface(&s), mRgba8(s.format() == Format::R8G8B8A8_UNORM) {
-        if (mRgba8) {
-            for (unsigned c = 0; c < 256; ++c) {
-                const std::array<std::byte, 4> texel{std::byte(c), std::byte(0), std::byte(0), std::byte(0)};
-                mUnorm8[c] = decodeTexel(Format::R8G8B8A8_UNORM, texel.data()).x;
-            }
-        }
-    }
-    glm::vec4 load(std::uint32_t x, std::uint32_t y) const {
-        const std::byte* p = mSurface->texel(x, y);
-        if (mRgba8)
-            return {mUnorm8[std::to_integer<unsigned>(p[0])], mUnorm8[std::to_integer<unsigned>(p[1])],
-                    mUnorm8[std::to_integer<unsigned>(p[2])], mUnorm8[std::to_integer<unsigned>(p[3])]};
-        if (mSurface->format() == Format::R32G32B32A32_FLOAT) {
-            glm::vec4 v;
-            std::memcpy(&v[0], p, 16);
-            return v;
-        }
-        return mSurface->load(x, y);
-    }
-
-private:
-    const Surface* mSurface = nullptr;
-    bool mRgba8 = false;
-    std::array<float, 256> mUnorm8{};
-};
-
 // What PS_DeferredLighting (and the compose pass) read: the G-buffer, the depth copy and
 // ScreenToViewParams.
 struct LightingInputs {
@@ -473,14 +420,14 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
                    const DeferredOptions& o = setup->options;
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
                    if (setup->separateAccumulation)
-                       reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                       reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    if (o.positionFromGBuffer)
-                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    if (o.accumulateLighting) {
                        reg.create("light.diffuse", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
                        reg.create("light.specular", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));

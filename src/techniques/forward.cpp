@@ -16,9 +16,6 @@
 namespace tessera {
 namespace {
 
-// The demo's clear: cornflower blue, depth 1, stencil 0 (main.cpp g_ClearColor).
-constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
-
 // The demo's transparent blend (main.cpp alphaBlending: BlendMode(true, false, SrcAlpha,
 // OneMinusSrcAlpha) with the BlendMode defaults for alpha: One, Zero, Add).
 constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add,
@@ -140,9 +137,9 @@ Frame buildForward(const TechniqueContext& ctx) {
 
     frame.add({"clear", {}, allBuffers, [setup, reference](BufferRegistry& reg) {
                    const std::uint32_t w = setup->width, h = setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
                    if (reference)
-                       reg.create("backbuffer.reference", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                       reg.create("backbuffer.reference", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
                }});
 

@@ -33,8 +33,6 @@
 namespace tessera {
 namespace {
 
-// The demo's clear: cornflower blue, depth 1, stencil 0 (main.cpp g_ClearColor).
-constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 constexpr std::uint32_t kMaxSurfaceEdge = 16384;  // D3D11_REQ_TEXTURE2D_U_OR_V_DIMENSION, texels
 // LightCountHeatMap's u = o_LightCount / 50.0f (ForwardPlusRendering.hlsl CS_main).
 constexpr float kHeatMapFullScale = 50.0f;  // lights at the gradient's end
@@ -845,14 +843,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
     const std::string back(kBackBufferName);
 
     Frame frame;
-    frame.add({"clear", {}, {back, "depth"}, [st](BufferRegistry& reg) {
-                   const std::uint32_t w = st->setup->width, h = st->setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
-               }});
-    frame.add({"depth-prepass", {"depth"}, {"depth"}, [st, device, res, stats](BufferRegistry& reg) {
-                   drawDepthPrepass(*st->setup, *device, *res, reg.get("depth"), stats);
-               }});
+    addForwardPlusClearAndPrepass(frame, st->setup, device, res, stats);
     frame.add({"frustums", {}, {"frustums"}, [st, device](BufferRegistry& reg) {
                    const glm::uvec2 tiles = st->tiles;
                    std::vector<Frustum> frustums(std::size_t{tiles.x} * tiles.y);
@@ -925,10 +916,17 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
     return frame;
 }
 
-// Shared with forward-plus-amd (forward_plus.h): the pre-pass above, unchanged.
-void drawForwardPlusDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& resources,
-                                 Surface& depthSurface, DrawStats* stats) {
-    drawDepthPrepass(setup, device, resources, depthSurface, stats);
+void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
+                                   const SceneResources* resources, DrawStats* stats) {
+    const std::string back(kBackBufferName);
+    frame.add({"clear", {}, {back, "depth"}, [setup](BufferRegistry& reg) {
+                   const std::uint32_t w = setup->width, h = setup->height;
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+               }});
+    frame.add({"depth-prepass", {"depth"}, {"depth"}, [setup, device, resources, stats](BufferRegistry& reg) {
+                   drawDepthPrepass(*setup, *device, *resources, reg.get("depth"), stats);
+               }});
 }
 
 } // namespace tessera

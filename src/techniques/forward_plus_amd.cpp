@@ -20,6 +20,7 @@
 #include <tessera/math/det_math.h>
 #include <tessera/math/screen_to_view.h>
 #include <tessera/math/tile_frustum.h>
+#include <tessera/shading/phong_surface.h>
 #include <tessera/shading/amd_lighting.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/shading/tile_heat_colors.h>
@@ -31,8 +32,6 @@
 namespace tessera {
 namespace {
 
-// The 3dgep demo's clear (main.cpp g_ClearColor), kept for both shadings so images compare.
-constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 constexpr std::uint32_t kMaxSurfaceEdge = 16384;  // D3D11_REQ_TEXTURE2D_U_OR_V_DIMENSION, texels
 constexpr float kSphereRoundUp = 1.0f + 1.0f / 1048576.0f;  // 1 + 2^-20: see spotBoundingSphere
 constexpr std::uint32_t kCounterRows = 3;  // "lightlist.counters": opaque (A), transparent, opaque far (B)
@@ -245,13 +244,6 @@ void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
 
 // ----- AMD shading (ForwardPlus11 RenderScenePS, amd_lighting.h) --------------------------------
 
-// The colour/texture rule of the 3dgep material (phong_material_shader.cpp textureRule):
-// c = any(c.rgb) ? c * texel : texel.
-glm::vec4 materialTexel(const glm::vec4& color, const glm::vec4& texel) {
-    const bool any = color.x != 0.0f || color.y != 0.0f || color.z != 0.0f;
-    return any ? color * texel : texel;
-}
-
 struct AmdShadeData {
     const AmdState* state = nullptr;
     const AmdTileLightLists* lists = nullptr;
@@ -272,7 +264,7 @@ struct AmdScenePS {
 
     void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
         glm::vec4 diffuseTex = material->diffuseColor;
-        if (material->diffuseTexture.bound()) diffuseTex = materialTexel(diffuseTex, material->diffuseTexture.sample(in));
+        if (material->diffuseTexture.bound()) diffuseTex = phong_detail::textureRule(diffuseTex, material->diffuseTexture.sample(in));
         const float alpha = material->ignoreDiffuseAlpha ? 1.0f : diffuseTex.w;
         float specMask = diffuseTex.w;  // fSpecMask = DiffuseTex.a
         if constexpr (kDiscard) {
@@ -392,14 +384,7 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const std::string back(kBackBufferName);
 
     Frame frame;
-    frame.add({"clear", {}, {back, "depth"}, [st](BufferRegistry& reg) {
-                   const std::uint32_t w = st->setup->width, h = st->setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
-               }});
-    frame.add({"depth-prepass", {"depth"}, {"depth"}, [st, device, res, stats](BufferRegistry& reg) {
-                   drawForwardPlusDepthPrepass(*st->setup, *device, *res, reg.get("depth"), stats);
-               }});
+    addForwardPlusClearAndPrepass(frame, st->setup, device, res, stats);
     std::vector<std::string> cullWrites{"lightgrid.opaque",  "lightindex.opaque", "lightgrid.transparent",
                                         "lightindex.transparent", "tiles.depthRange", "tiles.depthMask",
                                         "heatmap.radar",     "lightlist.counters"};

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include <tessera/buffers/conversion.h>
-#include <tessera/buffers/texel_codec.h>
+#include <tessera/buffers/target_reader.h>
 #include <tessera/compute/dispatch.h>
 #include <tessera/io/input_error.h>
 #include <tessera/math/specular_power_packing.h>
@@ -100,8 +100,6 @@ glm::vec3 intelSpheremapRoundTrip(const glm::vec3& n) {
 
 namespace {
 
-// The demo's clear colour (deferred / forward), also tessera's stand-in for Intel's sky box.
-constexpr glm::vec4 kClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 constexpr std::uint32_t kIndicesRow = 16384;  // "tiles.lightIndices" row length (kMaxSurfaceDimension)
 constexpr std::uint32_t kUnbounded = 0xFFFFFFFFu;
 
@@ -147,36 +145,6 @@ TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
     }
     return o;
 }
-
-// Texture2D.Load of a G-buffer target: R8G8B8A8_UNORM through a 256-entry table made by the
-// format's own decoder, R32G32B32A32_FLOAT as stored, anything else through Surface::load.
-class TargetReader {
-public:
-    TargetReader() = default;
-    explicit TargetReader(const Surface& s) : mSurface(&s), mRgba8(s.format() == Format::R8G8B8A8_UNORM) {
-        for (unsigned c = 0; c < 256 && mRgba8; ++c) {
-            const std::array<std::byte, 4> texel{std::byte(c), std::byte(0), std::byte(0), std::byte(0)};
-            mUnorm8[c] = decodeTexel(Format::R8G8B8A8_UNORM, texel.data()).x;
-        }
-    }
-    glm::vec4 load(std::uint32_t x, std::uint32_t y) const {
-        const std::byte* p = mSurface->texel(x, y);
-        if (mRgba8)
-            return {mUnorm8[std::to_integer<unsigned>(p[0])], mUnorm8[std::to_integer<unsigned>(p[1])],
-                    mUnorm8[std::to_integer<unsigned>(p[2])], mUnorm8[std::to_integer<unsigned>(p[3])]};
-        if (mSurface->format() == Format::R32G32B32A32_FLOAT) {
-            glm::vec4 v;
-            std::memcpy(&v[0], p, 16);
-            return v;
-        }
-        return mSurface->load(x, y);
-    }
-
-private:
-    const Surface* mSurface = nullptr;
-    bool mRgba8 = false;
-    std::array<float, 256> mUnorm8{};
-};
 
 // A PS output value converted for an R8G8B8A8_UNORM target without blending: NaN -> 0, clamp to
 // [0, 1] (D3D11.3 §3.2.3.6), rounded by the surface's encoder.
@@ -431,13 +399,14 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
                    const TiledOptions& o = setup->options;
                    const std::uint32_t w = setup->width, h = setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kClearColor);
-                   reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kClearColor);
-                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                   // the demo's clear, also tessera's stand-in for Intel's sky box
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    if (o.positionFromGBuffer)
-                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClearColor);
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    reg.create("depth", {w, h, depthFormat, 1}).clearDepthStencil(true, 1.0f, true, 0);
                    reg.create("heatmap", {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(glm::vec4(0.0f));
                    if (o.shading == Shading::Intel)

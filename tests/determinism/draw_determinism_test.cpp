@@ -7,10 +7,14 @@
 
 #include "support/test_draw.h"
 
+#include "support/surface_compare.h"
+
 using namespace tessera;
 using namespace tessera::test;
 
 namespace {
+
+using test::sameBytes;
 
 struct TwoTargetPS {
     using Varyings = ColorVaryings;
@@ -64,10 +68,6 @@ Frame renderScene(std::uint32_t threads, std::uint32_t tileSize, std::uint32_t s
         dev.draw(st, rt, std::span<const ColorVertex>(verts), {}, PassThroughVS{}, TwoTargetPS{});
     }
     return f;
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return a.bytes().size() == b.bytes().size() && std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin());
 }
 
 } // namespace

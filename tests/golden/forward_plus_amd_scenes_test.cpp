@@ -24,6 +24,9 @@ using namespace tessera;
 
 namespace {
 
+using test::sameBytes;
+using test::differingPixels;
+
 constexpr std::uint32_t kWidth = 320, kHeight = 180;
 constexpr std::uint32_t kTile = 8;  // kAmdTileSizePx
 
@@ -57,18 +60,6 @@ TechniqueContext contextFor(const test::BundledScene& s, Device& device) {
 BufferRegistry render(const std::string& name, const std::string& technique, const nlohmann::json& options,
                       std::uint32_t threads = 2) {
     return scene(name).render(technique, threads, &options);
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return a.desc().width == b.desc().width && a.desc().height == b.desc().height && a.format() == b.format() &&
-           std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
-}
-
-int differingPixels(const Surface& a, const Surface& b) {
-    int n = 0;
-    for (std::uint32_t y = 0; y < a.height(); ++y)
-        for (std::uint32_t x = 0; x < a.width(); ++x) n += std::memcmp(a.texel(x, y), b.texel(x, y), a.bytesPerTexel()) != 0;
-    return n;
 }
 
 // The opaque pass's shading points: (posView, SV_Position.z) per pixel, -1 in w where no

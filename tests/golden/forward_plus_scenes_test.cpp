@@ -19,9 +19,14 @@
 
 #include "support/golden_check.h"
 
+#include "support/surface_compare.h"
+
 using namespace tessera;
 
 namespace {
+
+using test::sameBytes;
+using test::differingPixels;
 
 constexpr std::uint32_t kWidth = 320, kHeight = 180;
 
@@ -82,18 +87,6 @@ void run(const std::string& scene, const std::string& technique, const nlohmann:
     for (const Pass& pass : frame.passes())
         if (!(withoutTransparent && pass.name == "transparent")) partial.add(pass);
     partial.run(registry);
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return a.desc().width == b.desc().width && a.desc().height == b.desc().height && a.format() == b.format() &&
-           std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
-}
-
-int differingPixels(const Surface& a, const Surface& b) {
-    int n = 0;
-    for (std::uint32_t y = 0; y < a.height(); ++y)
-        for (std::uint32_t x = 0; x < a.width(); ++x) n += std::memcmp(a.texel(x, y), b.texel(x, y), a.bytesPerTexel()) != 0;
-    return n;
 }
 
 // The interpolated posView the forward opaque pass shades at each pixel: the same draws and

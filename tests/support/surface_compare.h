@@ -1,9 +1,10 @@
-// Comparisons of surfaces shared by the tests: the same stored bytes, and for RGBA8 images the
-// largest per-channel code difference and how many pixels differ at all.
+// Comparisons of surfaces shared by the tests: the same stored bytes, how many pixels differ, and
+// for RGBA8 images the largest per-channel code difference.
 #pragma once
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 
 #include "tessera/buffers/surface.h"
 
@@ -30,8 +31,18 @@ inline Difference compareRgba8(const Surface& a, const Surface& b) {
     return d;
 }
 
+// Same size, format and stored bytes.
 inline bool sameBytes(const Surface& a, const Surface& b) {
-    return std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
+    return a.desc().width == b.desc().width && a.desc().height == b.desc().height && a.format() == b.format() &&
+           std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
+}
+
+// Pixels whose stored texel (sample 0) differs; a and b have the same size and format.
+inline int differingPixels(const Surface& a, const Surface& b) {
+    int n = 0;
+    for (std::uint32_t y = 0; y < a.height(); ++y)
+        for (std::uint32_t x = 0; x < a.width(); ++x) n += std::memcmp(a.texel(x, y), b.texel(x, y), a.bytesPerTexel()) != 0;
+    return n;
 }
 
 } // namespace tessera::test

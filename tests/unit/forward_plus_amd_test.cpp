@@ -19,26 +19,18 @@
 #include "tessera/techniques/forward_plus_amd.h"
 #include "tessera/techniques/technique.h"
 
+#include "support/room_scene.h"
+
 using namespace tessera;
 
 namespace {
 
+using test::sameBytes;
+using test::quad;
+
 // 64 x 48 px with 8 px tiles: 8 x 6 = 48 tiles, none partial.
 constexpr std::uint32_t kWidth = 64, kHeight = 48;
 constexpr std::uint32_t kTiles = (kWidth / 8) * (kHeight / 8);
-
-MeshPrimitive quad(glm::vec3 origin, glm::vec3 edgeU, glm::vec3 edgeV, int material) {
-    MeshPrimitive p;
-    const glm::vec3 n = glm::normalize(glm::cross(edgeU, edgeV));
-    p.positionsObject = {origin, origin + edgeU, origin + edgeU + edgeV, origin + edgeV};
-    p.normalsObject = {n, n, n, n};
-    const glm::vec4 t(glm::normalize(edgeU), 1.0f);
-    p.tangentsObject = {t, t, t, t};
-    p.texCoords0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    p.indices = {0, 1, 2, 0, 2, 3};
-    p.material = material;
-    return p;
-}
 
 // A floor (y = 0, 20 x 20) and a wall (z = -6) filling the view from (0, 3, 8): every tile has
 // geometry, so every tile runs the light test.
@@ -111,11 +103,6 @@ std::string errorOf(const nlohmann::json& options) {
         return e.what();
     }
     return "";
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return a.desc().width == b.desc().width && a.desc().height == b.desc().height && a.format() == b.format() &&
-           std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
 }
 
 } // namespace

@@ -15,26 +15,18 @@
 #include "tessera/techniques/forward_plus.h"
 #include "tessera/techniques/technique.h"
 
+#include "support/room_scene.h"
+
 using namespace tessera;
 
 namespace {
 
+using test::sameBytes;
+using test::quad;
+
 // 64 x 48 px with 16 px tiles: 4 x 3 = 12 tiles, so the demo's global lists hold 12 * 200 = 2400
 // entries each.
 constexpr std::uint32_t kWidth = 64, kHeight = 48;
-
-MeshPrimitive quad(glm::vec3 origin, glm::vec3 edgeU, glm::vec3 edgeV, int material) {
-    MeshPrimitive p;
-    const glm::vec3 n = glm::normalize(glm::cross(edgeU, edgeV));
-    p.positionsObject = {origin, origin + edgeU, origin + edgeU + edgeV, origin + edgeV};
-    p.normalsObject = {n, n, n, n};
-    const glm::vec4 t(glm::normalize(edgeU), 1.0f);
-    p.tangentsObject = {t, t, t, t};
-    p.texCoords0 = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    p.indices = {0, 1, 2, 0, 2, 3};
-    p.material = material;
-    return p;
-}
 
 // A floor (y = 0) and a wall (z = -6) that do not touch (the wall starts at y = 0.05), so no
 // two surfaces share a depth value and forward's LESS and Forward+'s LESS_EQUAL pick the same
@@ -76,6 +68,18 @@ Light pointLight(glm::vec3 position, float range, glm::vec3 color) {
     return l;
 }
 
+// Lights beside the camera (eye (0, 3, 8)) whose spheres cross the eye's plane view z = 0, where
+// the projected bounds of a sphere stop being monotone: an earlier binning dropped
+// transparent-list tiles of such lights (found by bench/culling_bench.cpp with 16384 small
+// lights in Sponza: 106.86 vs 108.91 lights per tile).
+void appendLightsBesideCamera(std::vector<Light>& lights) {
+    for (int k = 0; k < 24; ++k) {
+        const float a = float(k) * 0.9f;
+        lights.push_back(pointLight({2.5f * std::cos(a), 3.0f + 1.5f * std::sin(a), 8.0f + float(k % 5 - 2) * 0.5f},
+                                    1.0f + float(k % 4) * 0.5f, {1.0f, 1.0f, 1.0f}));
+    }
+}
+
 // Light 0 is enabled but lies 10^4 units away with range 1: it reaches no pixel, so wherever the
 // pixel shader reads index 0 from an overflowed list it adds nothing. Lights 1..n are dim point
 // lights with range 1000 around the room: each covers the whole view, so every tile lists every
@@ -109,11 +113,6 @@ void render(const Scene& scene, const std::string& technique, const nlohmann::js
     ctx.precision = precision;
     ctx.sceneFile = "memory.json";
     buildTechnique(technique, ctx, ctx.sceneFile).run(out.registry);
-}
-
-bool sameBytes(const Surface& a, const Surface& b) {
-    return a.desc().width == b.desc().width && a.desc().height == b.desc().height && a.format() == b.format() &&
-           std::equal(a.bytes().begin(), a.bytes().end(), b.bytes().begin(), b.bytes().end());
 }
 
 bool samePixel(const Surface& a, const Surface& b, std::uint32_t x, std::uint32_t y) {
@@ -234,15 +233,7 @@ TEST_CASE("forward-plus: light grid, index lists, frustums and heat map are iden
         }
         lights.push_back(l);
     }
-    // Lights beside the camera (eye (0, 3, 8)) whose spheres cross the eye's plane view z = 0,
-    // where the projected bounds of a sphere stop being monotone: an earlier binning dropped
-    // transparent-list tiles of such lights (found by bench/culling_bench.cpp with 16384 small
-    // lights in Sponza: 106.86 vs 108.91 lights per tile).
-    for (int k = 0; k < 24; ++k) {
-        const float a = float(k) * 0.9f;
-        lights.push_back(pointLight({2.5f * std::cos(a), 3.0f + 1.5f * std::sin(a), 8.0f + float(k % 5 - 2) * 0.5f},
-                                    1.0f + float(k % 4) * 0.5f, {1.0f, 1.0f, 1.0f}));
-    }
+    appendLightsBesideCamera(lights);
     const Scene scene = makeScene(lights);
     for (const int tile : {8, 16, 32}) {
         CAPTURE(tile);
@@ -276,15 +267,7 @@ TEST_CASE("forward-plus: binned culling gives the brute-force loop's lists") {
         }
         lights.push_back(l);
     }
-    // Lights beside the camera (eye (0, 3, 8)) whose spheres cross the eye's plane view z = 0,
-    // where the projected bounds of a sphere stop being monotone: an earlier binning dropped
-    // transparent-list tiles of such lights (found by bench/culling_bench.cpp with 16384 small
-    // lights in Sponza: 106.86 vs 108.91 lights per tile).
-    for (int k = 0; k < 24; ++k) {
-        const float a = float(k) * 0.9f;
-        lights.push_back(pointLight({2.5f * std::cos(a), 3.0f + 1.5f * std::sin(a), 8.0f + float(k % 5 - 2) * 0.5f},
-                                    1.0f + float(k % 4) * 0.5f, {1.0f, 1.0f, 1.0f}));
-    }
+    appendLightsBesideCamera(lights);
     const Scene scene = makeScene(lights);
     for (const int tile : {8, 16, 32}) {
         CAPTURE(tile);

@@ -14,23 +14,15 @@
 #include <tessera/compute/resources.h>
 #include <tessera/math/tile_depth_range.h>
 
+#include "support/unit_projections.h"
+
 using namespace tessera;
 namespace tc = tessera::compute;
 
 namespace {
 
-// 3dgep GL-form inverse with n = 1, f = 2, P11 = P22 = 1 (see tile_frustum_test.cpp): view.z = -1,
-// view.w = -0.25 D + 0.75, so ScreenToView(0, 0, D, 1).z = -1 / (0.75 - 0.25 D):
-// D = 0 -> -4/3 (= -2fn/(f+n), the demo's near clip), D = 0.25 -> -16/11, D = 1 -> -2 (far).
-glm::mat4 inverseGlFormUnit() {
-    glm::mat4 m(0.0f);
-    m[0][0] = 1.0f;
-    m[1][1] = 1.0f;
-    m[3][2] = -1.0f;
-    m[2][3] = -0.25f;
-    m[3][3] = 0.75f;
-    return m;
-}
+using test::inverseGlFormUnit;
+
 
 }  // namespace
 

@@ -11,6 +11,8 @@
 
 #include <tessera/math/tile_frustum.h>
 
+#include "support/unit_projections.h"
+
 using namespace tessera;
 
 namespace {
@@ -19,18 +21,8 @@ bool near3(const glm::vec3& a, const glm::vec3& b, float tol) {
     return std::fabs(a.x - b.x) <= tol && std::fabs(a.y - b.y) <= tol && std::fabs(a.z - b.z) <= tol;
 }
 
-// Exact matrices with P11 = P22 = 1 (a 90-degree square frustum), so every corner is exact:
-// 3dgep's GL-form projection with n = 1, f = 2 ([2][2] = -3, [2][3] = -1, [3][2] = -4) has the
-// inverse x = X, y = Y, z = -W, w = -0.25 Z + 0.75 W; ndc z = -1 maps to view (x, y, -1).
-glm::mat4 inverseGlFormUnit() {
-    glm::mat4 m(0.0f);
-    m[0][0] = 1.0f;
-    m[1][1] = 1.0f;
-    m[3][2] = -1.0f;
-    m[2][3] = -0.25f;
-    m[3][3] = 0.75f;
-    return m;
-}
+using test::inverseGlFormUnit;
+
 // AMD: a left-handed inverse with view = (X, Y, W, Z): ndc (x, y, 1, 1) maps to view (x, y, 1).
 glm::mat4 inverseLhUnit() {
     glm::mat4 m(0.0f);

@@ -4,6 +4,8 @@
 // bump mapping, in the shaders' order of operations. Forward, Forward+ and the G-buffer run it.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include <tessera/shading/phong_material_shader.h>
@@ -33,6 +35,28 @@ Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
 }
 
 } // namespace phong_detail
+
+// The compile-time specializations of the Phong shaders (forward's PS and the G-buffer PS): bit b
+// of a variant index selects kPhongVariantAxes[b]; the other features are tested at run time.
+inline constexpr std::array<std::uint32_t, 5> kPhongVariantAxes{kPhongAmbientTexture, kPhongEmissiveTexture,
+                                                                kPhongDiffuseTexture, kPhongNormalMap, kPhongAlphaTest};
+static_assert((kPhongVariantAxes[0] | kPhongVariantAxes[1] | kPhongVariantAxes[2] | kPhongVariantAxes[3] |
+               kPhongVariantAxes[4]) == kPhongSpecializedAxes);
+inline constexpr std::size_t kPhongVariantCount = std::size_t(1) << kPhongVariantAxes.size();
+
+// The feature mask (kPhong*) of variant `index`, and the variant index of a feature mask.
+constexpr std::uint32_t phongVariantMask(std::size_t index) {
+    std::uint32_t mask = 0;
+    for (std::size_t b = 0; b < kPhongVariantAxes.size(); ++b)
+        if ((index >> b) & 1u) mask |= kPhongVariantAxes[b];
+    return mask;
+}
+constexpr std::size_t phongVariantIndex(std::uint32_t mask) {
+    std::size_t index = 0;
+    for (std::size_t b = 0; b < kPhongVariantAxes.size(); ++b)
+        if ((mask & kPhongVariantAxes[b]) != 0) index |= std::size_t(1) << b;
+    return index;
+}
 
 // One pixel's material inputs to the lighting, as the shaders hold them before lighting.
 template <class T>

@@ -41,6 +41,10 @@ Frame buildForward(const TechniqueContext& context);
 
 enum class ProjectionConvention { DemoGl, D3d };
 
+// The 3dgep demo's clear colour (main.cpp g_ClearColor, cornflower blue), used by every technique
+// that follows the demo so that their images compare; depth clears to 1, stencil to 0.
+inline constexpr glm::vec4 kDemoClearColor{0.39f, 0.58f, 0.93f, 1.0f};
+
 // The 3dgep projection of `camera` (vertical FOV, aspect = camera.aspect or `aspect`). The
 // tangent comes from detTan (no libm); the element formulas are glm's (0.9.6.3 perspective for
 // DemoGl, perspectiveRH_ZO for D3d). Infinite far: the limits f -> inf. Orthographic cameras:

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string_view>
 
 #include <glm/glm.hpp>
@@ -107,10 +108,12 @@ ForwardPlusCounters readForwardPlusCounters(const BufferRegistry& registry);
 // 50 and more red.
 glm::vec4 forwardPlusHeatMapColor(std::uint32_t lightCount);
 
-// The demo's depth pre-pass (g_pDepthPrepassPipeline) as forward-plus draws it: the opaque draw
+// The first two passes of forward-plus, shared with forward-plus-amd: "clear" (creates the
+// R8G8B8A8_UNORM back buffer cleared to the demo's colour and the D24_UNORM_S8_UINT "depth"
+// cleared to 1, 0) and "depth-prepass", the demo's g_pDepthPrepassPipeline: the opaque draw
 // items, VS only (with `setup.alphaTest` the alpha-test PS, nothing written), depth LESS with
-// writes, cull back (glTF doubleSided: none). Shared with forward-plus-amd.
-void drawForwardPlusDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& resources,
-                                 Surface& depthSurface, DrawStats* stats);
+// writes, cull back (glTF doubleSided: none).
+void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
+                                   const SceneResources* resources, DrawStats* stats);
 
 } // namespace tessera
