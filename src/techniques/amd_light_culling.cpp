@@ -13,6 +13,10 @@
 #include <bit>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
+#include "tile_binning.h"
+
 namespace tessera {
 
 namespace {
@@ -33,6 +37,103 @@ struct AmdCullShared {
     std::array<std::uint32_t, kAmdLightCapacity> lightIdxFar;
 };
 
+// The binned light loop (AmdLightLoop::Binned): each tile's candidate lights, ascending.
+struct AmdLightBins {
+    std::vector<std::uint32_t> tileStart;   // CSR over tiles (row-major): tileLights[tileStart[t], tileStart[t + 1])
+    std::vector<std::uint32_t> tileLights;
+};
+
+// The kernel's side planes per column (right eqn[1], left eqn[3]) and per row (top eqn[0],
+// bottom eqn[2]), taken from the tiles of row 0 and column 0 (tile_binning.h: the same plane for
+// every tile of a column or row, up to rounding far below the padding).
+struct AmdAxisPlanes {
+    std::vector<glm::dvec3> right, left, top, bottom;
+};
+
+AmdAxisPlanes amdAxisPlanes(glm::uvec2 tiles, glm::uvec2 windowPx, const glm::mat4& inverseProjection, AmdTileCorners corners) {
+    AmdAxisPlanes p;
+    for (std::uint32_t gx = 0; gx < tiles.x; ++gx) {
+        const auto eqn = tileSidePlanesAmd({gx, 0u}, kAmdTileSizePx, windowPx, inverseProjection, corners);
+        p.right.emplace_back(eqn[1]);
+        p.left.emplace_back(eqn[3]);
+    }
+    for (std::uint32_t gy = 0; gy < tiles.y; ++gy) {
+        const auto eqn = tileSidePlanesAmd({0u, gy}, kAmdTileSizePx, windowPx, inverseProjection, corners);
+        p.top.emplace_back(eqn[0]);
+        p.bottom.emplace_back(eqn[2]);
+    }
+    return p;
+}
+
+// Whether the projection has the orientation the binary searches assume: LH view space, NDC x
+// right = view +x, NDC y up = view +y, the NDC centre in front (+z). Otherwise every light's
+// columns and rows are scanned, which assumes nothing.
+bool standardOrientation(const glm::mat4& inverseProjection) {
+    const auto at = [&](float x, float y) { return glm::vec3(clipToView(glm::vec4(x, y, 1.0f, 1.0f), inverseProjection)); };
+    const glm::vec3 centre = at(0.0f, 0.0f);
+    return centre.z > 0.0f && at(0.5f, 0.0f).x > centre.x && at(-0.5f, 0.0f).x < centre.x && at(0.0f, 0.5f).y > centre.y &&
+           at(0.0f, -0.5f).y < centre.y;
+}
+
+// The columns and rows a light can pass sphereOverlapsTileAmd's side tests on. The kernel keeps a
+// side when dot(eqn, c) < r (binary32); the binning drops a column only when dot >= r + pad in
+// double on the column's plane, so a dropped column fails the kernel on every tile of it. NaN
+// never drops.
+binning::TileRuns amdLightRuns(const glm::vec4& light, const AmdAxisPlanes& planes, glm::uvec2 tiles, bool searchable) {
+    const glm::dvec3 c(light.x, light.y, light.z);
+    const double r = double(light.w);
+    const double limit = r + binning::padFor(c, r);
+    const auto kept = [&](const glm::dvec3& n) { return !(glm::dot(n, c) >= limit); };
+    binning::TileRuns runs;
+    if (!searchable || !(c.z - limit > 0.0)) {  // not wholly in front of the eye (or NaN): scan
+        binning::scanRuns(tiles.x, [&](std::uint32_t gx) { return kept(planes.right[gx]) && kept(planes.left[gx]); }, runs.x0,
+                          runs.x1, runs.x2, runs.x3);
+        binning::scanRuns(tiles.y, [&](std::uint32_t gy) { return kept(planes.top[gy]) && kept(planes.bottom[gy]); }, runs.y0,
+                          runs.y1, runs.y2, runs.y3);
+        return runs.empty() ? binning::TileRuns{} : runs;
+    }
+    // Wholly in front: the right plane keeps the columns from the light's on (a suffix), the left
+    // plane those up to it (a prefix); rows run top to bottom: the bottom plane keeps a suffix,
+    // the top plane a prefix.
+    const bool columns = binning::searchRun(
+        tiles.x, [&](std::uint32_t gx) { return kept(planes.right[gx]); }, [&](std::uint32_t gx) { return kept(planes.left[gx]); },
+        runs.x0, runs.x1);
+    const bool rows = binning::searchRun(
+        tiles.y, [&](std::uint32_t gy) { return kept(planes.bottom[gy]); }, [&](std::uint32_t gy) { return kept(planes.top[gy]); },
+        runs.y0, runs.y1);
+    return columns && rows ? runs : binning::TileRuns{};
+}
+
+AmdLightBins binLightsAmd(std::span<const glm::vec4> lights, glm::uvec2 tiles, glm::uvec2 windowPx,
+                          const glm::mat4& inverseProjection, AmdTileCorners corners) {
+    const AmdAxisPlanes planes = amdAxisPlanes(tiles, windowPx, inverseProjection, corners);
+    const bool searchable = standardOrientation(inverseProjection);
+    std::vector<binning::TileRuns> runs(lights.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lights.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) runs[i] = amdLightRuns(lights[i], planes, tiles, searchable);
+    });
+    // Counting sort of (tile, light) by tile, lights visited in ascending index.
+    const auto forTiles = [&](const binning::TileRuns& run, auto&& f) {
+        if (run.empty()) return;
+        const auto row = [&](std::uint32_t gy) {
+            for (std::uint32_t gx = run.x0; gx <= run.x1; ++gx) f(gx + gy * tiles.x);
+            for (std::uint32_t gx = run.x2; gx <= run.x3; ++gx) f(gx + gy * tiles.x);
+        };
+        for (std::uint32_t gy = run.y0; gy <= run.y1; ++gy) row(gy);
+        for (std::uint32_t gy = run.y2; gy <= run.y3; ++gy) row(gy);
+    };
+    AmdLightBins bins;
+    const std::size_t tileCount = std::size_t{tiles.x} * tiles.y;
+    bins.tileStart.assign(tileCount + 1, 0u);
+    for (const binning::TileRuns& run : runs) forTiles(run, [&](std::uint32_t t) { ++bins.tileStart[t + 1]; });
+    for (std::size_t t = 0; t < tileCount; ++t) bins.tileStart[t + 1] += bins.tileStart[t];
+    std::vector<std::uint32_t> cursor(bins.tileStart.begin(), bins.tileStart.end() - 1);
+    bins.tileLights.resize(bins.tileStart.back());
+    for (std::size_t i = 0; i < runs.size(); ++i)
+        forTiles(runs[i], [&](std::uint32_t t) { bins.tileLights[cursor[t]++] = static_cast<std::uint32_t>(i); });
+    return bins;
+}
+
 struct AmdCullKernel {
     static constexpr glm::uvec3 groupSize{kAmdTileSizePx, kAmdTileSizePx, 1u};
     using Shared = AmdCullShared;
@@ -43,6 +144,7 @@ struct AmdCullKernel {
     AmdCullingOptions options;
     AmdTileLightLists* out = nullptr;
     compute::OrderedCounter* poolCounter = nullptr;
+    const AmdLightBins* bins = nullptr;  // the binned loop's candidates; null: every light
 
     // The pixel's view z and whether it takes part (not the cleared value).
     bool viewZ(float d, float& z) const {
@@ -94,7 +196,13 @@ struct AmdCullKernel {
                 if (pixelValid[t]) compute::interlockedOr(s.depthMask, depthMaskBit(pixelZ[t], minZ, pitch));
             });
         }
-        g.forEachStrided(static_cast<std::uint32_t>(lights.size()), [&](const compute::ThreadIds&, std::uint32_t i) {
+        // for (i = lIdx; i < numLights; i += 64) over every light, or over the tile's binned
+        // candidates (ascending light index either way, so the same appends in the same order).
+        const std::uint32_t* candidates = bins ? bins->tileLights.data() + bins->tileStart[tileIndex] : nullptr;
+        const std::uint32_t loopCount =
+            static_cast<std::uint32_t>(bins ? bins->tileStart[tileIndex + 1] - bins->tileStart[tileIndex] : lights.size());
+        g.forEachStrided(loopCount, [&](const compute::ThreadIds&, std::uint32_t k) {
+            const std::uint32_t i = candidates ? candidates[k] : k;
             const glm::vec3 center(lights[i]);
             const float radius = lights[i].w;
             if (!sphereOverlapsTileAmd(center, radius, eqn, minZ, maxZ)) return;
@@ -164,8 +272,17 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
         out.tileLightCountFar.assign(tiles, 0u);
         out.tileFoundCountFar.assign(tiles, 0u);
     }
-    // Worst case: every tile (both lists) full. Trimmed to the counter after the dispatch.
-    out.lightIndices.assign(tiles * (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, lightsViewLh.size()), 0u);
+    AmdLightBins bins;
+    if (options.lightLoop == AmdLightLoop::Binned)
+        bins = binLightsAmd(lightsViewLh, out.tileCount, glm::uvec2(depth.width, depth.height), inverseProjection, options.corners);
+    // Worst case: every tile's lists (both with half-Z) full, or holding all of its candidates.
+    // Trimmed to the counter after the dispatch.
+    std::size_t poolBound = 0;
+    for (std::size_t t = 0; t < tiles; ++t) {
+        const std::size_t found = bins.tileStart.empty() ? lightsViewLh.size() : bins.tileStart[t + 1] - bins.tileStart[t];
+        poolBound += (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, found);
+    }
+    out.lightIndices.assign(poolBound, 0u);
 
     compute::OrderedCounter poolCounter(0);  // gLightIdxCounter
     compute::OrderedCounter* counters[] = {&poolCounter};
@@ -176,6 +293,7 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
     kernel.options = options;
     kernel.out = &out;
     kernel.poolCounter = &poolCounter;
+    if (!bins.tileStart.empty()) kernel.bins = &bins;
     compute::DispatchDesc desc;
     desc.order = options.order;
     desc.orderedCounters = counters;

@@ -30,6 +30,8 @@
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique_options.h>
 
+#include "tile_binning.h"
+
 namespace tessera {
 namespace {
 
@@ -119,31 +121,20 @@ struct ComputeFrustumsKernel {
 };
 
 // ----- Tessera's binning pre-pass (not in the demo) ---------------------------------------------
-// For each light, the tile columns [x0, x1] and rows [y0, y1] outside which the kernel's test
-// cannot pass, found by binary search with a padded sphere test against the column and row
-// planes (a sphere reaching the eye's plane: every column and row tested, see lightTileRect).
-// Before that case was added, such lights could lose tiles the kernel keeps, in the transparent
-// lists (16384 small Sponza lights: mean 106.86 instead of brute's 108.91). Conservative: the side planes of every tile in a column are the same plane through the
-// eye and a vertical screen line (rows: a horizontal one), computed with float rounding that
-// differs per tile by far less than the padding (relative 2^-10 of |c| + r; the float planes
-// are accurate to ~1e-5 relative even for 8 px tiles, where the two corner rays that make a
-// plane are 1e-3 rad apart), so a light the padded test puts outside a column fails the
-// kernel's test on every tile of it. A spot light is bounded by the sphere around its cone (tip
-// and base disc), which contains both points the article's ConeInsidePlane tests (T, and Q in the
-// base disc since m is perpendicular to d and |m| <= 1). Non-finite values never exclude.
-struct LightTileRect {
-    std::uint32_t x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1 or y0 > y1
-    // A second run of columns / rows after the first (inclusive, empty when x2 > x3): only for
-    // a sphere that reaches the eye's plane (lightTileRect).
-    std::uint32_t x2 = 1, x3 = 0, y2 = 1, y3 = 0;
-};
+// For each light, the tile columns and rows outside which the kernel's test cannot pass
+// (tile_binning.h): binary search with a padded sphere test against the column and row planes,
+// or, for a sphere reaching the eye's plane, every column and row tested. Before that case was
+// added, such lights could lose tiles the kernel keeps, in the transparent lists (16384 small
+// Sponza lights: mean 106.86 instead of brute's 108.91). A spot light is bounded by the sphere
+// around its cone (tip and base disc), which contains both points the article's
+// ConeInsidePlane tests (T, and Q in the base disc since m is perpendicular to d and |m| <= 1).
+// Non-finite values never exclude.
+using LightTileRect = binning::TileRuns;
 
 struct BinnedLight {
     std::uint32_t light;   // index in the scene's light list
     std::uint32_t x0, x1;  // tile columns, inclusive
 };
-
-constexpr double kBinningPadRelative = 1.0 / 1024.0;  // of |c| + r, view units
 
 struct BoundingSphere {
     glm::dvec3 c{0.0};
@@ -157,24 +148,11 @@ bool paddedInside(const BoundingSphere& s, const Plane& plane) {
     return distance < -(s.r + s.pad);
 }
 
-// First index in [0, n) where pred is true (n when none), pred assumed false...true.
-template <class Pred>
-std::uint32_t firstTrue(std::uint32_t n, Pred&& pred) {
-    std::uint32_t lo = 0, hi = n;
-    while (lo < hi) {
-        const std::uint32_t mid = lo + (hi - lo) / 2;
-        if (pred(mid)) hi = mid;
-        else lo = mid + 1;
-    }
-    return lo;
-}
-
 LightTileRect lightTileRect(const ViewLight<float>& light, const std::vector<Frustum>& frustums, glm::uvec2 tiles,
                             float nearClipVS) {
     LightTileRect rect;
     if (!light.enabled) return rect;
-    const LightTileRect all{0, tiles.x - 1, 0, tiles.y - 1};
-    if (light.type == LightType::Directional) return all;
+    if (light.type == LightType::Directional) return LightTileRect::all(tiles);
     BoundingSphere s;
     const glm::dvec3 position(light.positionView.x, light.positionView.y, light.positionView.z);
     if (light.type == LightType::Point) {
@@ -187,45 +165,29 @@ LightTileRect lightTileRect(const ViewLight<float>& light, const std::vector<Fru
         s.c = position + d * (h * 0.5);
         s.r = std::sqrt(h * h * 0.25 + baseRadius * baseRadius) * std::max(1.0, glm::length(d));
     }
-    s.pad = kBinningPadRelative * (glm::length(s.c) + std::abs(s.r)) + 1e-6;
+    s.pad = binning::padFor(s.c, s.r);
     if (s.c.z - s.r > double(nearClipVS) + s.pad) return rect;  // wholly behind the near clip plane
     const auto plane = [&](std::uint32_t tx, std::uint32_t ty, int i) -> const Plane& {
         return frustums[tx + std::size_t{ty} * tiles.x].planes[std::size_t(i)];
     };
-    if (s.c.z + s.r + s.pad >= 0.0) {
-        // The sphere reaches the eye's plane z = 0: a plane through the eye then has it wholly
-        // inside on a middle run of columns (a sphere beside the eye: the planes' halves behind
-        // the eye keep the far columns), not on a prefix, and a binary search could exclude
-        // columns the kernel keeps. Each column and row is tested instead; the kept ones form
-        // up to two runs (a third and later ones are merged into the second, conservatively).
-        const auto runs = [](std::uint32_t n, auto&& kept, std::uint32_t& a0, std::uint32_t& a1, std::uint32_t& b0,
-                             std::uint32_t& b1) {
-            for (std::uint32_t i = 0; i < n; ++i) {
-                if (!kept(i)) continue;
-                if (a0 > a1) a0 = a1 = i;
-                else if (b0 > b1 && a1 + 1 == i) a1 = i;
-                else if (b0 > b1) b0 = b1 = i;
-                else b1 = i;
-            }
-        };
-        LightTileRect scan;
-        runs(tiles.x, [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 0)) && !paddedInside(s, plane(tx, 0, 1)); },
-             scan.x0, scan.x1, scan.x2, scan.x3);
-        runs(tiles.y, [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 2)) && !paddedInside(s, plane(0, ty, 3)); },
-             scan.y0, scan.y1, scan.y2, scan.y3);
-        return scan.x0 <= scan.x1 && scan.y0 <= scan.y1 ? scan : LightTileRect{};
+    // Planes 0..3: left, right, top, bottom, normals into the tile.
+    const auto keptColumn = [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 0)) && !paddedInside(s, plane(tx, 0, 1)); };
+    const auto keptRow = [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 2)) && !paddedInside(s, plane(0, ty, 3)); };
+    if (s.c.z + s.r + s.pad >= 0.0) {  // reaches the eye's plane z = 0
+        binning::scanRuns(tiles.x, keptColumn, rect.x0, rect.x1, rect.x2, rect.x3);
+        binning::scanRuns(tiles.y, keptRow, rect.y0, rect.y1, rect.y2, rect.y3);
+        return rect.empty() ? LightTileRect{} : rect;
     }
     // Wholly in front of the eye: inside(right plane of tx) holds for tx left of the sphere;
     // inside(left plane) for tx right of it. Rows: inside(bottom plane of ty) above the sphere,
     // inside(top) below it.
-    rect.x0 = firstTrue(tiles.x, [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 1)); });
-    const std::uint32_t xEnd = firstTrue(tiles.x, [&](std::uint32_t tx) { return paddedInside(s, plane(tx, 0, 0)); });
-    rect.y0 = firstTrue(tiles.y, [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 3)); });
-    const std::uint32_t yEnd = firstTrue(tiles.y, [&](std::uint32_t ty) { return paddedInside(s, plane(0, ty, 2)); });
-    if (xEnd == 0 || yEnd == 0) return LightTileRect{};
-    rect.x1 = xEnd - 1;
-    rect.y1 = yEnd - 1;
-    return rect;
+    const bool columns = binning::searchRun(
+        tiles.x, [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 1)); },
+        [&](std::uint32_t tx) { return !paddedInside(s, plane(tx, 0, 0)); }, rect.x0, rect.x1);
+    const bool rows = binning::searchRun(
+        tiles.y, [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 3)); },
+        [&](std::uint32_t ty) { return !paddedInside(s, plane(0, ty, 2)); }, rect.y0, rect.y1);
+    return columns && rows ? rect : LightTileRect{};
 }
 
 // ----- CS_main: the light culling (seed 000 §6 and §10, reference-implementations.md §1.7) --------
@@ -505,7 +467,7 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
     sc.rects.resize(lights.size());
     sc.lights.resize(lights.size());
     device.execute([&] {
-        const LightTileRect all{0, tiles.x - 1, 0, tiles.y - 1};
+        const LightTileRect all = LightTileRect::all(tiles);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lights.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i < r.end(); ++i) {
                 const ViewLight<float>& light = lights[i];

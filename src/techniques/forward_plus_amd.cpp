@@ -47,6 +47,7 @@ struct AmdOptions {
     ProjectionConvention projection = ProjectionConvention::D3d;
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
+    AmdLightLoop lightLoop = AmdLightLoop::Binned;
 };
 
 AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
@@ -63,6 +64,8 @@ AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
     o.sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
                                                                                                : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
+    o.lightLoop = optionEnum(ctx.options, "lightLoop", {"binned", "all-lights"}, "binned", file) == "binned" ? AmdLightLoop::Binned
+                                                                                                     : AmdLightLoop::AllLights;
     return o;
 }
 
@@ -193,8 +196,10 @@ void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
     AmdCullingOptions opaqueOptions;
     opaqueOptions.depthCulling = st.options.depthMask ? AmdDepthCulling::DepthMask25D : AmdDepthCulling::MinMax;
     opaqueOptions.halfZ = st.options.halfZ;
+    opaqueOptions.lightLoop = st.options.lightLoop;
     AmdCullingOptions transparentOptions;
     transparentOptions.range = AmdDepthRange::NearToMax;
+    transparentOptions.lightLoop = st.options.lightLoop;
     device.execute([&] {
         st.opaque = cullTilesAmd(depthView, st.spheresViewLh, st.inverseProjectionLh, opaqueOptions);
         st.transparent = cullTilesAmd(depthView, st.spheresViewLh, st.inverseProjectionLh, transparentOptions);

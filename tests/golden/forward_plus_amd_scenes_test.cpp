@@ -1,7 +1,8 @@
 // `forward-plus-amd` on every bundled scene (scenes/*.json, 320x180): brute force over pixels and
 // lights against the list each pixel reads (2.5D, min/max, half-Z), the 3dgep shading mode equal
-// to `forward` bit for bit on opaque geometry, every buffer identical at 1 and 2 threads, 2.5D
-// against min/max (same image, shorter lists, printed), and the golden images.
+// to `forward` bit for bit on opaque geometry, every buffer identical at 1 and 2 threads and with
+// the all-lights culling loop, 2.5D against min/max (same image, shorter lists, printed), and the
+// golden images.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -232,13 +233,16 @@ TEST_CASE("forward-plus-amd scenes: 3dgep shading equals forward bit for bit on 
     }
 }
 
-TEST_CASE("forward-plus-amd scenes: every buffer is identical at 1 and 2 threads") {
+TEST_CASE("forward-plus-amd scenes: every buffer is identical at 1 and 2 threads and with the all-lights loop") {
     for (const std::string& name : bundledSceneNames()) {
         for (const nlohmann::json& options : {nlohmann::json::object(), nlohmann::json{{"halfZ", true}}}) {
             CAPTURE(name);
             CAPTURE(options.dump());
             BufferRegistry one = render(name, "forward-plus-amd", options, 1);
             BufferRegistry two = render(name, "forward-plus-amd", options, 2);
+            nlohmann::json allLightsOptions = options;
+            allLightsOptions["lightLoop"] = "all-lights";  // GPU Pro 4's loop: the binned one must not change a byte
+            BufferRegistry allLights = render(name, "forward-plus-amd", allLightsOptions, 2);
             std::vector<std::string> names{"backbuffer",        "depth",          "lightgrid.opaque", "lightindex.opaque",
                                            "lightgrid.transparent", "lightindex.transparent", "tiles.depthRange",
                                            "tiles.depthMask",   "heatmap.radar",  "lightlist.counters"};
@@ -246,6 +250,7 @@ TEST_CASE("forward-plus-amd scenes: every buffer is identical at 1 and 2 threads
             for (const std::string& buffer : names) {
                 CAPTURE(buffer);
                 CHECK(sameBytes(one.get(buffer), two.get(buffer)));
+                CHECK(sameBytes(allLights.get(buffer), two.get(buffer)));
             }
         }
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
 
 #include <tessera/math/depth_mask.h>
 #include <tessera/scene/light_generator.h>
@@ -220,4 +221,95 @@ TEST_CASE("cullTilesAmd brute force: no light that contains a pixel's surface po
                << pct(double(mask25.lightIndices.size() - needed.size()), double(mask25.lightIndices.size())) << "%\n";
     }
     MESSAGE(report.str());
+}
+
+namespace {
+
+// Every output of cullTilesAmd, for byte comparisons.
+bool sameLists(const AmdTileLightLists& a, const AmdTileLightLists& b) {
+    return a.tileCount == b.tileCount && a.lightIndices == b.lightIndices && a.tileOffset == b.tileOffset &&
+           a.tileLightCount == b.tileLightCount && a.tileFoundCount == b.tileFoundCount && a.tileMinZBits == b.tileMinZBits &&
+           a.tileMaxZBits == b.tileMaxZBits && a.tileDepthMask == b.tileDepthMask && a.tileOffsetFar == b.tileOffsetFar &&
+           a.tileLightCountFar == b.tileLightCountFar && a.tileFoundCountFar == b.tileFoundCountFar &&
+           a.overflowTiles == b.overflowTiles && a.droppedLights == b.droppedLights && a.overflowTilesFar == b.overflowTilesFar &&
+           a.droppedLightsFar == b.droppedLightsFar;
+}
+
+}  // namespace
+
+TEST_CASE("cullTilesAmd: binned and all-lights loops give the same bytes") {
+    // The binned loop skips a light on a tile only where its padded sphere is outside the tile's
+    // column or row planes (tile_binning.h); any light it wrongly skips changes the lists. Lights
+    // here: the scene's (in front), plus ones around and behind the eye (the scanned case), huge
+    // ones, ones at the frustum's edges, and a NaN radius. Projections: GPU Pro 4, ForwardPlus11
+    // reversed, and a mirrored one (NDC x to view -x) that the binary searches must not be used on.
+    std::uint64_t binnedSkips = 0;
+    for (int projectionKind = 0; projectionKind < 3; ++projectionKind) {
+        TestScene s = makeScene(projectionKind == 1, 77 + projectionKind, 1500);
+        if (projectionKind == 2) {  // mirrored x: the same depth buffer seen through x -> -x
+            s.projection = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)) * s.projection;
+            s.inverseProjection = glm::inverse(s.projection);
+        }
+        Pcg32 rng(4242 + projectionKind);
+        for (int i = 0; i < 400; ++i) {  // around the eye: z in [-8, 8], radii up to 10
+            s.lights.emplace_back(rng.uniform(-10.0f, 10.0f), rng.uniform(-8.0f, 8.0f), rng.uniform(-8.0f, 8.0f),
+                                  rng.uniform(0.01f, 10.0f));
+        }
+        s.lights.emplace_back(0.0f, 0.0f, 0.0f, 0.0f);
+        s.lights.emplace_back(0.0f, 0.0f, 50.0f, 1000.0f);
+        s.lights.emplace_back(0.0f, 0.0f, 50.0f, std::nanf(""));
+        for (int i = 0; i < 200; ++i) {  // near the four frustum edges: x or y at the edge's slope
+            const float z = rng.uniform(1.0f, 80.0f), t = rng.uniform(-1.0f, 1.0f);
+            const float edge = (i % 2 ? 1.0f : -1.0f) * z * std::tan(glm::radians(30.0f));
+            const float aspect = float(kWidth) / float(kHeight);
+            const glm::vec3 c = i % 4 < 2 ? glm::vec3(edge * aspect, t * z * 0.5f, z) : glm::vec3(t * z * 0.5f * aspect, edge, z);
+            s.lights.emplace_back(c, rng.uniform(0.001f, 2.0f));
+        }
+        const DepthImageView image = view(s);
+        for (AmdDepthCulling culling : {AmdDepthCulling::MinMax, AmdDepthCulling::DepthMask25D})
+            for (bool halfZ : {false, true})
+                for (AmdDepthRange range : {AmdDepthRange::Opaque, AmdDepthRange::NearToMax})
+                    for (AmdTileCorners corners : {AmdTileCorners::Screen, AmdTileCorners::PaddedGrid}) {
+                        CAPTURE(projectionKind);
+                        CAPTURE(halfZ);
+                        AmdCullingOptions o = optionsFor(s, culling, compute::GroupOrder::Parallel);
+                        o.halfZ = halfZ;
+                        o.range = range;
+                        o.corners = corners;
+                        o.lightLoop = AmdLightLoop::AllLights;
+                        const AmdTileLightLists all = cullTilesAmd(image, s.lights, s.inverseProjection, o);
+                        o.lightLoop = AmdLightLoop::Binned;
+                        const AmdTileLightLists binned = cullTilesAmd(image, s.lights, s.inverseProjection, o);
+                        CHECK(sameLists(all, binned));
+                        const double tiles = double(all.tileCount.x) * all.tileCount.y;
+                        binnedSkips += static_cast<std::uint64_t>(tiles * double(s.lights.size())) - all.lightIndices.size();
+                    }
+    }
+    CHECK(binnedSkips > 0);
+}
+
+TEST_CASE("cullTilesAmd: a sphere 0.1% of r outside the screen's left edge is in no list, 0.1% inside only in column 0's") {
+    // 64 x 64 px (8 x 8 tiles), 60 deg vertical fov, a wall at view z 20. The left edge plane
+    // through the eye has outward normal (-cos 30, 0, -sin 30) (60 deg horizontal fov too), so the
+    // distance of (x, 0, 20) from it is -(x + 20 tan 30) cos 30: a sphere of radius r centred at
+    // x = -20 tan 30 - k r / cos 30 lies k r beyond the edge (it intersects the screen iff k < 1).
+    // Both loops must agree: the binned loop's padding may keep a candidate, never drop one.
+    const glm::mat4 projection = glm::perspectiveLH_ZO(glm::radians(60.0f), 1.0f, 0.5f, 100.0f);
+    const std::vector<float> depth(64 * 64, projection[2][2] + projection[3][2] / 20.0f);  // a wall at z 20
+    const DepthImageView image{depth, 64, 64};
+    const float r = 2.0f;
+    const float xOutside = -20.0f * std::tan(glm::radians(30.0f)) - r / std::cos(glm::radians(30.0f)) * 1.001f;
+    const float xInside = -20.0f * std::tan(glm::radians(30.0f)) - r / std::cos(glm::radians(30.0f)) * 0.999f;
+    const std::vector<glm::vec4> lights{{xOutside, 0.0f, 20.0f, r}, {xInside, 0.0f, 20.0f, r}};
+    for (AmdLightLoop loop : {AmdLightLoop::AllLights, AmdLightLoop::Binned}) {
+        AmdCullingOptions o;
+        o.lightLoop = loop;
+        const AmdTileLightLists lists = cullTilesAmd(image, lights, glm::inverse(projection), o);
+        std::vector<std::uint32_t> column0;
+        for (std::uint32_t gy = 0; gy < lists.tileCount.y; ++gy)
+            for (std::uint32_t light : lists.tileLights(gy * lists.tileCount.x)) column0.push_back(light);
+        CHECK(std::count(column0.begin(), column0.end(), 0u) == 0);
+        CHECK(std::count(column0.begin(), column0.end(), 1u) > 0);
+        CHECK(lists.lightIndices.size() == column0.size());  // the inside light reaches column 0 only
+    }
 }

@@ -116,6 +116,8 @@ TEST_CASE("forward-plus-amd: options are validated with the key path") {
     CHECK(errorOf({{"halfZ", true}, {"shading", "3dgep"}}).find("/options/halfZ") != std::string::npos);
     CHECK(errorOf({{"projection", "gl"}}).find("/options/projection") != std::string::npos);
     CHECK(errorOf({{"tileSize", 16}}).find("/options/tileSize") != std::string::npos);
+    CHECK(errorOf({{"lightLoop", "all-lights"}}).empty());
+    CHECK(errorOf({{"lightLoop", "brute"}}).find("/options/lightLoop") != std::string::npos);
 }
 
 TEST_CASE("forward-plus-amd: LIGHT_CAPACITY 256 overflow is counted and the radar map turns white") {

@@ -43,6 +43,16 @@ enum class AmdDepthRange : std::uint8_t {
                 // reference-implementations.md §2.2). GpuPro4 convention only; no 2.5D, no half-Z.
 };
 
+// Which lights each tile's strided loop visits. Both give the same bytes: the binned loop skips
+// only lights whose side-plane test fails on that tile (tests/unit/amd_light_culling_test.cpp
+// "binned and all-lights loops give the same bytes").
+enum class AmdLightLoop : std::uint8_t {
+    AllLights,  // seed 002 §2.4 as written: every tile tests every light (14,400 tiles x N at 720p)
+    Binned,     // tessera: per light, the tile columns and rows its padded bounding sphere can reach
+                // (src/techniques/tile_binning.h); each tile visits its row's candidates in
+                // ascending light index
+};
+
 struct AmdCullingOptions {
     AmdDepthConvention depthConvention = AmdDepthConvention::GpuPro4;
     AmdDepthCulling depthCulling = AmdDepthCulling::MinMax;
@@ -54,6 +64,7 @@ struct AmdCullingOptions {
     bool halfZ = false;
     AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (seed 002's reading)
     compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (OrderedCounter)
+    AmdLightLoop lightLoop = AmdLightLoop::Binned;              // same bytes as AllLights
 };
 
 // The kernel's outputs. Tile t = gx + gy * tileCount.x (seed 002 §2.5 (d), [INFERRED]).
@@ -92,7 +103,8 @@ struct AmdTileLightLists {
 //   2. every thread loads its pixel, and unless it is the cleared value does InterlockedMin /
 //      InterlockedMax(asuint(view z)); barrier
 //   3. (2.5D) every such thread ORs 1 << cell(z) into the tile mask; barrier
-//   4. lights strided over the 64 threads (light i on thread i % 64, ascending i): side planes
+//   4. lights strided over the 64 threads (every light, or with AmdLightLoop::Binned the tile's
+//      candidates; ascending light index either way): side planes
 //      and slab (sphereOverlapsTileAmd), (2.5D) the mask AND; appendLightToList: InterlockedAdd
 //      on the shared counter, store if the slot is < 256; barrier
 //   5. thread 0: count = min(counter, 256) (the clamp seed 002 §2.5 (c) requires: the printed

@@ -34,14 +34,17 @@ namespace tessera {
 //       forward.h. The culling runs in AMD's LEFT-handed view space: P_lh = P_rh * diag(1,1,-1,1)
 //       (the same clip coordinates, view z negated), inverse(P_lh) for projToView.
 //   "sampler": "demo" | "gltf", "alphaTest": false | true   as forward.
+//   "lightLoop": "binned" (default) | "all-lights"   which lights each tile's culling loop visits
+//       (amd_light_culling.h AmdLightLoop): the same lists either way; "all-lights" is the kernel
+//       as GPU Pro 4 writes it, every tile over every light (2 s for 16384 lights at 1280x720).
 // Depth: GPU Pro 4's convention (cleared to 1.0, pre-pass LESS, shading LESS_EQUAL without a
 // second write); ForwardPlus11's reversed depth is not modelled here.
 // Transparent (blended) geometry: neither GPU Pro 4 nor ForwardPlus11 shade it; tessera draws it
 // after the opaque pass as forward does (alpha blend, no depth write, cull none) with a second
 // list per tile over [near plane, maxZ] (cleared pixels count as the far plane; MinMax only), the
 // choice of 3dgep's transparent list. Shading amd outputs alpha = DiffuseTex.a * Opacity there.
-inline constexpr std::array<std::string_view, 6> kForwardPlusAmdOptionKeys{"shading", "culling", "halfZ",
-                                                                           "projection", "sampler", "alphaTest"};
+inline constexpr std::array<std::string_view, 7> kForwardPlusAmdOptionKeys{"shading", "culling", "halfZ",   "projection",
+                                                                           "sampler", "alphaTest", "lightLoop"};
 
 // Buffers (--dump writes them all; tiles = ceil(W / 8) x ceil(H / 8)):
 //   "backbuffer" R8G8B8A8_UNORM, "depth" D24_UNORM_S8_UINT (the pre-pass depth)
