@@ -46,6 +46,12 @@ float Pcg32::uniform(float lo, float hi) {
 
 std::vector<Light> generateLights(const LightGeneratorSpec& spec, const Bounds& sceneBounds) {
     const Bounds& box = spec.box ? *spec.box : sceneBounds;
+    if (spec.kind == LightGeneratorKind::AmdForwardPlus11) {
+        if (spec.count > kAmdForwardPlus11MaxLights || spec.spotCount > kAmdForwardPlus11MaxLights)
+            throw std::invalid_argument("generateLights: AMD ForwardPlus11 has at most 2048 point and 2048 spot lights");
+        return lightsFromAmdForwardPlus11(generateLightsAmdForwardPlus11(box, kAmdForwardPlus11MaxLights, spec.argumentOrder),
+                                          spec.count, spec.spotCount);
+    }
     Pcg32 rng(spec.seed);
     std::vector<Light> lights;
     lights.reserve(spec.count);

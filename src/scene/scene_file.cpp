@@ -374,32 +374,64 @@ Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     return light;
 }
 
+// A generator's "box": {"min": [x, y, z], "max": [x, y, z]}, min <= max per axis.
+Bounds parseBox(const Reader& r, const Json& box, const std::string& bp) {
+    r.requireObject(box, bp);
+    r.checkKeys(box, bp, {"min", "max"});
+    r.requireKey(box, bp, "min");
+    r.requireKey(box, bp, "max");
+    Bounds bounds;
+    bounds.minWorld = r.vec3(box["min"], Reader::at(bp, "min"));
+    bounds.maxWorld = r.vec3(box["max"], Reader::at(bp, "max"));
+    for (glm::length_t axis = 0; axis < 3; ++axis)
+        if (bounds.minWorld[axis] > bounds.maxWorld[axis])
+            r.fail(Reader::at(Reader::at(bp, "min"), static_cast<std::size_t>(axis)),
+                   "min " + formatNumber(bounds.minWorld[axis]) + " is greater than max " + formatNumber(bounds.maxWorld[axis]));
+    return bounds;
+}
+
 LightGeneratorSpec parseGenerator(const Reader& r, const Json& value, const std::string& path) {
     r.requireObject(value, path);
-    r.checkKeys(value, path, {"count", "seed", "pointFraction", "box", "range", "spotAngleDeg", "intensity", "colorMin", "colorMax"});
-    r.requireKey(value, path, "count");
     LightGeneratorSpec spec;
+    if (value.contains("kind")) {
+        const std::string kind = r.string(value["kind"], Reader::at(path, "kind"));
+        if (kind == "amd-forwardplus11") spec.kind = LightGeneratorKind::AmdForwardPlus11;
+        else if (kind != "uniform")
+            r.fail(Reader::at(path, "kind"), "unknown generator kind \"" + kind + "\" (uniform, amd-forwardplus11)");
+    }
+    if (spec.kind == LightGeneratorKind::AmdForwardPlus11) {
+        for (std::string_view key : {"seed", "pointFraction", "range", "spotAngleDeg", "intensity", "colorMin", "colorMax"})
+            if (value.contains(key))
+                r.fail(Reader::at(path, key), "\"" + std::string(key) +
+                                                  "\" does not apply to kind amd-forwardplus11 (the demo fixes it; its keys: kind, "
+                                                  "count, spotCount, box, argumentOrder)");
+        r.checkKeys(value, path, {"kind", "count", "spotCount", "box", "argumentOrder"});
+        r.requireKey(value, path, "count");
+        spec.count = static_cast<std::uint32_t>(
+            r.unsignedInteger(value["count"], Reader::at(path, "count"), 0, kAmdForwardPlus11MaxLights));
+        if (value.contains("spotCount"))
+            spec.spotCount = static_cast<std::uint32_t>(
+                r.unsignedInteger(value["spotCount"], Reader::at(path, "spotCount"), 0, kAmdForwardPlus11MaxLights));
+        if (value.contains("argumentOrder")) {
+            const std::string order = r.string(value["argumentOrder"], Reader::at(path, "argumentOrder"));
+            if (order == "left-to-right") spec.argumentOrder = CallArgumentOrder::LeftToRight;
+            else if (order != "right-to-left")
+                r.fail(Reader::at(path, "argumentOrder"), "unknown argument order \"" + order + "\" (right-to-left, left-to-right)");
+        }
+        if (value.contains("box")) spec.box = parseBox(r, value["box"], Reader::at(path, "box"));
+        return spec;
+    }
+    for (std::string_view key : {"spotCount", "argumentOrder"})
+        if (value.contains(key)) r.fail(Reader::at(path, key), "applies to kind amd-forwardplus11 only, not uniform");
+    r.checkKeys(value, path,
+                {"kind", "count", "seed", "pointFraction", "box", "range", "spotAngleDeg", "intensity", "colorMin", "colorMax"});
+    r.requireKey(value, path, "count");
     spec.count = static_cast<std::uint32_t>(r.unsignedInteger(value["count"], Reader::at(path, "count"), 0, kMaxGeneratedLights));
     if (value.contains("seed"))
         spec.seed = r.unsignedInteger(value["seed"], Reader::at(path, "seed"), 0, std::numeric_limits<std::uint64_t>::max());
     if (value.contains("pointFraction"))
         spec.pointFraction = r.numberIn(value["pointFraction"], Reader::at(path, "pointFraction"), 0.0f, 1.0f, false, false);
-    if (value.contains("box")) {
-        const Json& box = value["box"];
-        const std::string bp = Reader::at(path, "box");
-        r.requireObject(box, bp);
-        r.checkKeys(box, bp, {"min", "max"});
-        r.requireKey(box, bp, "min");
-        r.requireKey(box, bp, "max");
-        Bounds bounds;
-        bounds.minWorld = r.vec3(box["min"], Reader::at(bp, "min"));
-        bounds.maxWorld = r.vec3(box["max"], Reader::at(bp, "max"));
-        for (glm::length_t axis = 0; axis < 3; ++axis)
-            if (bounds.minWorld[axis] > bounds.maxWorld[axis])
-                r.fail(Reader::at(Reader::at(bp, "min"), static_cast<std::size_t>(axis)),
-                       "min " + formatNumber(bounds.minWorld[axis]) + " is greater than max " + formatNumber(bounds.maxWorld[axis]));
-        spec.box = bounds;
-    }
+    if (value.contains("box")) spec.box = parseBox(r, value["box"], Reader::at(path, "box"));
     if (value.contains("range"))
         spec.range = r.interval(value["range"], Reader::at(path, "range"),
                                 [&](const Json& v, const std::string& p) { return r.positive(v, p); });
@@ -587,6 +619,10 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
         }
         if (!spec.box && bounds.empty())
             throw inputError(file, "/generate/" + std::to_string(i), "the scene has no geometry to place lights in; give a \"box\"");
+        if (spec.kind == LightGeneratorKind::AmdForwardPlus11 && spec.count > kAmdForwardPlus11MaxLights)  // e.g. from --lights
+            throw inputError(file, "/generate/" + std::to_string(i) + "/count",
+                             std::to_string(spec.count) + " point lights; AMD ForwardPlus11 has at most " +
+                                 std::to_string(kAmdForwardPlus11MaxLights) + " (MAX_NUM_LIGHTS)");
         std::vector<Light> generated = generateLights(spec, bounds);
         scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
     }

@@ -467,3 +467,63 @@ TEST_CASE("loadScene: the bundled default scene loads") {
     CHECK(camera.positionWorld == glm::vec3(0.0f, 2.2f, 7.5f));
     CHECK(camera.farZ == 100.0f);
 }
+
+TEST_CASE("generate kind amd-forwardplus11: the demo's lights over the scene's bounds, and its errors") {
+    // The scene's bounds are the unit box scaled by 2 around x = 10 (the test above); the lights
+    // must be exactly generateLightsAmdForwardPlus11 over those bounds (tests/scene/
+    // amd_light_generator_test.cpp checks that generator against the demo's formulas), first 5
+    // points then first 3 spots, after the 2 lights of a uniform generator.
+    const std::string text = R"({
+      "models": [{"path": "khronos/Box/glTF/Box.gltf", "translation": [10, 0, 0], "scale": 2}],
+      "generate": [{"count": 2, "seed": 7},
+                   {"kind": "amd-forwardplus11", "count": 5, "spotCount": 3},
+                   {"kind": "amd-forwardplus11", "count": 1, "argumentOrder": "left-to-right",
+                    "box": {"min": [-1, -1, -1], "max": [1, 1, 1]}}]
+    })";
+    const SceneDescription d = tessera::parseSceneJson(text, kSourceDir / "scenes/x.json");
+    REQUIRE(d.generators.size() == 3);
+    CHECK(d.generators[1].kind == tessera::LightGeneratorKind::AmdForwardPlus11);
+    CHECK(d.generators[1].spotCount == 3);
+    const tessera::Scene s = tessera::loadScene(d, false, nullptr);
+    REQUIRE(s.lights.size() == 2 + 5 + 3 + 1);
+    const std::vector<tessera::Light> expected = tessera::lightsFromAmdForwardPlus11(
+        tessera::generateLightsAmdForwardPlus11(s.bounds(), tessera::kAmdForwardPlus11MaxLights), 5, 3);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        CAPTURE(i);
+        CHECK(s.lights[2 + i].type == expected[i].type);
+        CHECK(s.lights[2 + i].positionWorld == expected[i].positionWorld);
+        CHECK(s.lights[2 + i].range == expected[i].range);
+        CHECK(s.lights[2 + i].color == expected[i].color);
+        CHECK(s.lights[2 + i].directionWorld == expected[i].directionWorld);
+    }
+    CHECK(s.lights[2].type == LightType::Point);
+    CHECK(s.lights[7].type == LightType::Spot);
+    // The given box and the other argument order: x drawn last instead of first.
+    tessera::Bounds box;
+    box.minWorld = glm::vec3(-1.0f);
+    box.maxWorld = glm::vec3(1.0f);
+    const tessera::Light last = tessera::lightsFromAmdForwardPlus11(
+        tessera::generateLightsAmdForwardPlus11(box, tessera::kAmdForwardPlus11MaxLights, tessera::CallArgumentOrder::LeftToRight), 1, 0)[0];
+    CHECK(s.lights[10].positionWorld == last.positionWorld);
+
+    expectError(scene(R"("generate": [{"kind": "amd"}])"), "/generate/0/kind", "unknown generator kind \"amd\"");
+    expectError(scene(R"("generate": [{"kind": "amd-forwardplus11", "count": 2049}])"), "/generate/0/count", "2049 is outside 0..2048");
+    expectError(scene(R"("generate": [{"kind": "amd-forwardplus11", "count": 1, "spotCount": 4096}])"), "/generate/0/spotCount",
+                "4096 is outside 0..2048");
+    expectError(scene(R"("generate": [{"kind": "amd-forwardplus11", "count": 1, "seed": 3}])"), "/generate/0/seed",
+                "\"seed\" does not apply to kind amd-forwardplus11");
+    expectError(scene(R"("generate": [{"count": 1, "spotCount": 3}])"), "/generate/0/spotCount",
+                "applies to kind amd-forwardplus11 only");
+    expectError(scene(R"("generate": [{"kind": "amd-forwardplus11", "count": 1, "argumentOrder": "msvc"}])"),
+                "/generate/0/argumentOrder", "unknown argument order");
+    expectError(scene(R"("generate": [{"kind": "amd-forwardplus11", "spotCount": 1}])"), "/generate/0", "count");
+    // A count past 2048 set after parsing (the command line's --lights) is an error at load time.
+    SceneDescription overridden = d;
+    overridden.generators[1].count = 4096;
+    try {
+        (void)tessera::loadScene(overridden, false, nullptr);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("/generate/1/count: 4096 point lights; AMD ForwardPlus11 has at most 2048") != std::string::npos);
+    }
+}

@@ -29,8 +29,20 @@ private:
     std::uint64_t mState = 0, mIncrement = 0;
 };
 
+enum class CallArgumentOrder : std::uint8_t;
+
+// Which generator a "generate" entry of a scene file runs.
+enum class LightGeneratorKind : std::uint8_t {
+    Uniform,           // tessera's (below): PCG32, uniform in a box, the intervals of the spec
+    AmdForwardPlus11,  // AMD ForwardPlus11's InitLights (generateLightsAmdForwardPlus11): the first
+                       // `count` point and `spotCount` spot lights of the demo's 2048 + 2048; only
+                       // count, spotCount, box and argumentOrder apply
+};
+
 struct LightGeneratorSpec {
-    std::uint32_t count = 0;                       // 0..1,000,000
+    LightGeneratorKind kind = LightGeneratorKind::Uniform;
+    std::uint32_t count = 0;                       // 0..1,000,000 (AmdForwardPlus11: point lights, 0..2048)
+    std::uint32_t spotCount = 0;                   // AmdForwardPlus11 only: spot lights, 0..2048
     std::uint64_t seed = 0;
     float pointFraction = 1.0f;                    // probability of a point light (else spot), in [0, 1]
     std::optional<Bounds> box;                     // absent: the scene's bounds
@@ -38,12 +50,16 @@ struct LightGeneratorSpec {
     glm::vec2 spotHalfAngleDeg{35.0f, 60.0f};      // [min, max], in (0, 90)
     glm::vec2 intensity{1.0f, 1.0f};               // [min, max], >= 0
     glm::vec3 colorMin{0.0f}, colorMax{1.0f};      // per channel interval, linear RGB, >= 0
+    CallArgumentOrder argumentOrder{};             // AmdForwardPlus11 only (default RightToLeft, as MSVC)
 };
 
 // Draw order per light (fixed, part of the format): type, position x, y, z, range, colour r, g, b,
 // intensity, then for spots the angle and the direction. The direction is uniform on the sphere
 // by rejection: p = (uniform(-1,1) x3) until 1e-6 < dot(p,p) <= 1, then p / sqrt(dot(p,p)).
 // Only +, -, *, / and sqrt (all correctly rounded in IEEE 754), so no libm enters the result.
+// Kind AmdForwardPlus11: lightsFromAmdForwardPlus11(generateLightsAmdForwardPlus11(box, 2048,
+// argumentOrder), count, spotCount), box being the spec's or the scene's bounds (the demo's
+// BBoxMin / BBoxMax); throws std::invalid_argument when count or spotCount exceeds 2048.
 std::vector<Light> generateLights(const LightGeneratorSpec& spec, const Bounds& sceneBounds);
 
 // ===== AMD ForwardPlus11's light generator (ForwardPlusUtil.cpp InitLights) ======================
@@ -73,6 +89,7 @@ private:
 };
 
 enum class CallArgumentOrder : std::uint8_t { RightToLeft, LeftToRight };
+static_assert(CallArgumentOrder{} == CallArgumentOrder::RightToLeft);
 
 // One point light as the demo stores it: g_PointLightDataArrayCenterAndRadius[i] (world centre,
 // radius) and g_PointLightDataArrayColor[i] (DWORD 0xAABBGGRR of R8G8B8A8_UNORM).
