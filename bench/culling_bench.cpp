@@ -177,6 +177,7 @@ std::vector<Variant> variants(const std::vector<std::pair<std::string, std::vect
 } // namespace
 
 int main(int argc, char** argv) {
+    bench::useSteadyStateAllocator();
     std::vector<std::string> techniquesToRun = {"forward-plus"};
     std::vector<std::string> scenarios = {"large", "small"};
     std::vector<std::uint32_t> lightCounts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384};

@@ -31,6 +31,7 @@ using bench::splitUints;
 } // namespace
 
 int main(int argc, char** argv) {
+    bench::useSteadyStateAllocator();
     std::vector<std::string> techniquesToRun = {"forward", "deferred"};
     std::string scenario = "large";
     std::vector<std::uint32_t> lightCounts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};

@@ -378,6 +378,63 @@ struct CullLightsKernel {
 //  5. per tile row, in parallel: the grid and the copy to the global list with the kernel's
 //     rules (entries past the local capacity read 0, writes past the global list discarded).
 // Nothing is allocated per tile; the scratch below lives with the technique and only grows.
+// ----- Spot lights: the cone tests with per-light terms ---------------------------------------
+// The same booleans as coneInsideFrustum[Corrected] + the opaque minPlane test, cheaper:
+//  - the near plane {(0, 0, -1), -nearClipVS} is the same for every tile: tested once per light;
+//  - the far plane {(0, 0, 1), maxDepthVS} and minPlane {(0, 0, -1), -minDepthVS} differ per
+//    tile only in d, and ConeInsidePlane's Q depends only on N: dot(N, T) and dot(N, Q) are
+//    computed once, then pointInsidePlane is `dot - d < 0` per tile, the same floats;
+//  - a side plane is decided by the cone's bounding sphere (tip and base disc, the sphere
+//    lightTileRect bins with) when the sphere lies clearly on one side: signed distance of the
+//    centre beyond radius + pad puts T and Q (inside the sphere: |m| <= |d|^2 |N| in the faithful
+//    test, |m / |m|| = 1 in the corrected one) on that side, and the pad (relative 2^-10 of
+//    |c| + r + |d_plane|, as the binning's) is far above the rounding of the exact test's floats.
+//    Otherwise the exact ConeInsidePlane runs.
+// tests/golden/forward_plus_scenes_test.cpp (binned = brute, which runs the kernel with
+// coneInsideFrustum itself) and tests/unit/forward_plus_test.cpp check the bytes.
+struct SpotCullTerms {
+    bool nearCulls = false;          // ConeInsidePlane(cone, nearPlane): culled on every tile
+    float dotTFar = 0.0f, dotQFar = 0.0f;  // dot((0, 0, 1), T), dot((0, 0, 1), Q)
+    float dotTMin = 0.0f, dotQMin = 0.0f;  // dot((0, 0, -1), T), dot((0, 0, -1), Q)
+    glm::vec3 boundCentre{0.0f};
+    float boundReach = std::numeric_limits<float>::quiet_NaN();  // radius + pad; NaN: always exact
+};
+
+SpotCullTerms spotCullTerms(const Cone& cone, bool corrected, float nearClipVS) {
+    const auto testPoint = [&](const glm::vec3& N) {
+        return corrected ? coneTestPointCorrected(cone, N) : coneTestPoint(cone, N);
+    };
+    SpotCullTerms t;
+    const Plane nearPlane = nearPlane3dgep(nearClipVS);
+    t.nearCulls = pointInsidePlane(cone.T, nearPlane) && pointInsidePlane(testPoint(nearPlane.N), nearPlane);
+    const glm::vec3 farN(0.0f, 0.0f, 1.0f), minN(0.0f, 0.0f, -1.0f);  // farPlane3dgep / nearPlane3dgep normals
+    t.dotTFar = cullmath::dot(farN, cone.T);
+    t.dotQFar = cullmath::dot(farN, testPoint(farN));
+    t.dotTMin = cullmath::dot(minN, cone.T);
+    t.dotQMin = cullmath::dot(minN, testPoint(minN));
+    const glm::dvec3 T(cone.T), d(cone.d);
+    const double h = double(cone.h), dLength = glm::length(d);
+    const glm::dvec3 centre = T + d * (h * 0.5);
+    const double mReach = double(std::abs(cone.r)) * std::max(1.0, dLength * dLength) * (1.0 + 1e-6);
+    const double radius = std::sqrt(0.25 * h * h * dLength * dLength + mReach * mReach);
+    const double reach = radius + binning::padFor(centre, radius);
+    if (std::isfinite(reach) && std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z) && reach < 1e30) {
+        t.boundCentre = glm::vec3(centre);
+        t.boundReach = static_cast<float>(reach);
+    }
+    return t;
+}
+
+// coneInsidePlane[Corrected](cone, plane) for a tile side plane, decided by the bounding sphere
+// where it is clear (SpotCullTerms).
+bool coneInsideSidePlane(const Cone& cone, const SpotCullTerms& t, const Plane& plane, bool corrected) {
+    const float distance = signedDistance(plane, t.boundCentre);
+    const float reach = t.boundReach + static_cast<float>(binning::kPadRelative) * std::abs(plane.d);
+    if (distance > reach) return false;
+    if (distance < -reach) return true;
+    return corrected ? coneInsidePlaneCorrected(cone, plane) : coneInsidePlane(cone, plane);
+}
+
 struct CullLight {
     Sphere sphere;                        // Sphere{PositionVS, Range}; a cone's T and h
     glm::vec3 direction{0.0f};            // DirectionVS
@@ -385,6 +442,7 @@ struct CullLight {
     LightType type = LightType::Point;
     std::uint32_t x0 = 1, x1 = 0;         // tile columns, inclusive
     std::uint32_t x2 = 1, x3 = 0;         // a second run of columns (LightTileRect)
+    SpotCullTerms spot;                   // spot lights only
 };
 
 struct TileCull {
@@ -480,6 +538,8 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
                 c.direction = glm::vec3(light.directionView);
                 c.coneRadius = detTan(hlsl::radians(light.spotlightAngleDeg)) * light.range;
                 c.type = light.type;
+                if (light.type == LightType::Spot && !st.options.brute)
+                    c.spot = spotCullTerms(Cone{c.sphere.c, c.sphere.r, c.direction, c.coneRadius}, st.options.coneCorrected, nearClipVS);
                 c.x0 = rect.x0;
                 c.x1 = rect.x1;
                 c.x2 = rect.x2;
@@ -624,15 +684,14 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
                         if (!sphereInsideFrustum(c.sphere, tc.frustum, nearClipVS, tc.maxDepthVS)) return;
                         opaqueToo = !sphereInsidePlane(c.sphere, tc.minPlane);
                         break;
-                    case LightType::Spot: {
+                    case LightType::Spot: {  // coneInsideFrustum[Corrected], then the minPlane test
+                        const SpotCullTerms& t = c.spot;
+                        if (t.nearCulls) return;
+                        if (t.dotTFar - tc.maxDepthVS < 0.0f && t.dotQFar - tc.maxDepthVS < 0.0f) return;  // far plane
                         const Cone cone{c.sphere.c, c.sphere.r, c.direction, c.coneRadius};
-                        if (coneCorrected) {
-                            if (!coneInsideFrustumCorrected(cone, tc.frustum, nearClipVS, tc.maxDepthVS)) return;
-                            opaqueToo = !coneInsidePlaneCorrected(cone, tc.minPlane);
-                        } else {
-                            if (!coneInsideFrustum(cone, tc.frustum, nearClipVS, tc.maxDepthVS)) return;
-                            opaqueToo = !coneInsidePlane(cone, tc.minPlane);
-                        }
+                        for (const Plane& plane : tc.frustum.planes)
+                            if (coneInsideSidePlane(cone, t, plane, coneCorrected)) return;
+                        opaqueToo = !(t.dotTMin - tc.minPlane.d < 0.0f && t.dotQMin - tc.minPlane.d < 0.0f);
                         break;
                     }
                     case LightType::Directional: opaqueToo = true; break;  // always added

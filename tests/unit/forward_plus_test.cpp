@@ -268,17 +268,33 @@ TEST_CASE("forward-plus: binned culling gives the brute-force loop's lists") {
         lights.push_back(l);
     }
     appendLightsBesideCamera(lights);
+    // Spots around the eye (and crossing its plane), wide and narrow, in every direction: the
+    // binned path decides most side planes from the cone's bounding sphere and the near, far and
+    // min planes from per-light terms (forward_plus.cpp SpotCullTerms); the brute path runs
+    // coneInsideFrustum itself.
+    for (int k = 0; k < 80; ++k) {
+        const float a = float(k) * 1.3f;
+        Light l = pointLight({3.0f * std::cos(a), 3.0f + 2.0f * std::sin(a * 0.7f), 6.0f + float(k % 9) * 0.6f},
+                             0.5f + float(k % 12) * 0.5f, {1.0f, 1.0f, 1.0f});
+        l.type = LightType::Spot;
+        l.directionWorld = glm::normalize(glm::vec3(std::sin(a * 2.1f), std::cos(a * 1.7f), std::sin(a * 0.9f) + 0.01f));
+        l.spotHalfAngleDeg = 2.0f + float(k * 7 % 87);
+        lights.push_back(l);
+    }
     const Scene scene = makeScene(lights);
-    for (const int tile : {8, 16, 32}) {
-        CAPTURE(tile);
-        Rendered binned, brute;
-        render(scene, "forward-plus", {{"tileSize", tile}}, binned);
-        render(scene, "forward-plus", {{"tileSize", tile}, {"culling", "brute"}}, brute);
-        for (const char* name : {"lightgrid.opaque", "lightgrid.transparent", "lightindex.opaque", "lightindex.transparent"}) {
-            CAPTURE(name);
-            CHECK(sameBytes(binned.get(name), brute.get(name)));
+    for (const std::string coneTest : {"demo", "corrected"}) {
+        for (const int tile : {8, 16, 32}) {
+            CAPTURE(coneTest);
+            CAPTURE(tile);
+            Rendered binned, brute;
+            render(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}}, binned);
+            render(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}, {"culling", "brute"}}, brute);
+            for (const char* name : {"lightgrid.opaque", "lightgrid.transparent", "lightindex.opaque", "lightindex.transparent"}) {
+                CAPTURE(name);
+                CHECK(sameBytes(binned.get(name), brute.get(name)));
+            }
+            CHECK(readForwardPlusCounters(binned.registry).transparent.requested > 0);
         }
-        CHECK(readForwardPlusCounters(binned.registry).transparent.requested > 0);
     }
 }
 

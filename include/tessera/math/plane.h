@@ -88,9 +88,15 @@ inline bool sphereInsidePlane(const Sphere& sphere, const Plane& plane) {
 // reported inside (and culled). The error is 0 when d is parallel or perpendicular to N and
 // largest in between (r (1 - sin theta) short). See coneInsidePlaneCorrected and the test
 // "faithful 3dgep cone test culls a cone whose base rim crosses the plane".
+// The point Q ConeInsidePlane tests beside T, for a plane with normal N (it does not depend on
+// the plane's d): Q = T + d h - m r, m = cross(cross(N, d), d).
+inline glm::vec3 coneTestPoint(const Cone& cone, const glm::vec3& N) {
+    const glm::vec3 m = cullmath::cross(cullmath::cross(N, cone.d), cone.d);
+    return (cone.T + cone.d * cone.h) - m * cone.r;
+}
+
 inline bool coneInsidePlane(const Cone& cone, const Plane& plane) {
-    const glm::vec3 m = cullmath::cross(cullmath::cross(plane.N, cone.d), cone.d);
-    const glm::vec3 Q = (cone.T + cone.d * cone.h) - m * cone.r;
+    const glm::vec3 Q = coneTestPoint(cone, plane.N);
     return pointInsidePlane(cone.T, plane) && pointInsidePlane(Q, plane);
 }
 
@@ -100,11 +106,16 @@ inline bool coneInsidePlane(const Cone& cone, const Plane& plane) {
 // centre (every rim point is equally far). The solid cone
 // is the convex hull of T and the base disc, so {T, Q} contains its maximum of dot(N, X): the
 // test is exact up to rounding.
-inline bool coneInsidePlaneCorrected(const Cone& cone, const Plane& plane) {
-    const glm::vec3 m = cullmath::cross(cullmath::cross(plane.N, cone.d), cone.d);
+// Its Q, for a plane with normal N: T + d h - r m / |m| (m = 0: the base centre).
+inline glm::vec3 coneTestPointCorrected(const Cone& cone, const glm::vec3& N) {
+    const glm::vec3 m = cullmath::cross(cullmath::cross(N, cone.d), cone.d);
     const float mLength = cullmath::length(m);
     const glm::vec3 mUnit = mLength > 0.0f ? glm::vec3(m.x / mLength, m.y / mLength, m.z / mLength) : glm::vec3(0.0f);
-    const glm::vec3 Q = (cone.T + cone.d * cone.h) - mUnit * cone.r;
+    return (cone.T + cone.d * cone.h) - mUnit * cone.r;
+}
+
+inline bool coneInsidePlaneCorrected(const Cone& cone, const Plane& plane) {
+    const glm::vec3 Q = coneTestPointCorrected(cone, plane.N);
     return pointInsidePlane(cone.T, plane) && pointInsidePlane(Q, plane);
 }
 
