@@ -31,14 +31,7 @@ using test::differingPixels;
 constexpr std::uint32_t kWidth = 320, kHeight = 180;
 constexpr std::uint32_t kTile = 8;  // kAmdTileSizePx
 
-std::vector<std::string> bundledSceneNames() {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes"))
-        if (entry.path().extension() == ".json" && entry.path().filename() != "scene.schema.json")
-            names.push_back(entry.path().stem().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
+using test::bundledSceneNames;
 
 const test::BundledScene& scene(const std::string& name) {
     static std::map<std::string, std::unique_ptr<test::BundledScene>> cache;
@@ -47,54 +40,11 @@ const test::BundledScene& scene(const std::string& name) {
     return *slot;
 }
 
-TechniqueContext contextFor(const test::BundledScene& s, Device& device) {
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &s.resources();
-    ctx.camera = s.camera();
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.sceneFile = s.description().file.string();
-    return ctx;
-}
+TechniqueContext contextFor(const test::BundledScene& s, Device& device) { return s.context(device, nlohmann::json::object()); }
 
 BufferRegistry render(const std::string& name, const std::string& technique, const nlohmann::json& options,
                       std::uint32_t threads = 2) {
     return scene(name).render(technique, threads, &options);
-}
-
-// The opaque pass's shading points: (posView, SV_Position.z) per pixel, -1 in w where no
-// geometry; the same draws and states as forward's OpaquePass.
-struct PositionPS {
-    using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 1;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
-        out.target[0] = glm::vec4(in.varyings.posView, in.posWindow.z);
-    }
-};
-
-Surface opaquePositions(const test::BundledScene& s, const ForwardPassSetup& setup, Device& device) {
-    Surface position({kWidth, kHeight, Format::R32G32B32A32_FLOAT, 1});
-    position.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
-    Surface depth({kWidth, kHeight, Format::D24_UNORM_S8_UINT, 1});
-    depth.clearDepthStencil(true, 1.0f, true, 0);
-    RenderTargets rt;
-    rt.colors[0] = &position;
-    rt.depthStencil = &depth;
-    const SceneResources& res = s.resources();
-    for (const DrawItem& item : res.drawItems()) {
-        const PhongMaterial material = phongFromGltf(res.material(item.material));
-        if (material.isTransparent()) continue;
-        DrawState st;
-        st.viewport = Viewport{0.0f, 0.0f, float(kWidth), float(kHeight), 0.0f, 1.0f};
-        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
-        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
-        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, PositionPS{});
-    }
-    return position;
 }
 
 struct ListCheck {
@@ -123,7 +73,7 @@ ListCheck checkLists(const std::string& name, const nlohmann::json& options) {
                                             PhongSamplerChoice::Demo, false);
     const glm::mat4 flipZ(glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, -1, 0), glm::vec4(0, 0, 0, 1));
     const glm::mat4 inverseProjectionLh = glm::inverse(setup->clipFromView * flipZ);
-    const Surface positions = opaquePositions(s, *setup, device);
+    const Surface positions = test::opaqueShadingPoints(s.resources(), *setup, device, kWidth, kHeight);
     BufferRegistry reg = render(name, "forward-plus-amd", options);
     const bool halfZ = options.contains("halfZ") && options["halfZ"] == true;
     const Surface& grid = reg.get("lightgrid.opaque");

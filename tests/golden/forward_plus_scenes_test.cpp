@@ -17,6 +17,7 @@
 #include <tessera/techniques/forward_plus.h>
 #include <tessera/techniques/technique.h>
 
+#include "support/bundled_scene.h"
 #include "support/golden_check.h"
 
 #include "support/surface_compare.h"
@@ -30,97 +31,30 @@ using test::differingPixels;
 
 constexpr std::uint32_t kWidth = 320, kHeight = 180;
 
-std::vector<std::string> bundledScenes() {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes"))
-        if (entry.path().extension() == ".json" && entry.path().filename() != "scene.schema.json")
-            names.push_back(entry.path().stem().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
-
-struct LoadedScene {
-    SceneDescription desc;
-    Camera camera;
-    std::unique_ptr<Scene> scene;
-    std::unique_ptr<SceneResources> resources;
-};
-
 // Loaded once per scene for all the cases of this file. "NAME@N": the scene with every light
 // generator's count set to N (what `tessera render --lights N` does).
-const LoadedScene& loaded(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<LoadedScene>> cache;
+const test::BundledScene& loaded(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<test::BundledScene>> cache;
     auto& slot = cache[name];
     if (!slot) {
-        slot = std::make_unique<LoadedScene>();
         const std::size_t at = name.find('@');
-        slot->desc = parseSceneFile(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / (name.substr(0, at) + ".json"));
-        if (at != std::string::npos)
-            for (auto& generator : slot->desc.generators) generator.count = static_cast<std::uint32_t>(std::stoul(name.substr(at + 1)));
-        slot->desc.width = kWidth;
-        slot->desc.height = kHeight;
-        slot->scene = std::make_unique<Scene>(loadScene(slot->desc, true, &slot->camera));
-        slot->resources = std::make_unique<SceneResources>(*slot->scene, std::function<void(std::size_t, std::size_t)>{}, TexturePolicy::AllLinear);
+        std::optional<std::uint32_t> count;
+        if (at != std::string::npos) count = static_cast<std::uint32_t>(std::stoul(name.substr(at + 1)));
+        slot = std::make_unique<test::BundledScene>(name.substr(0, at), kWidth, kHeight, TexturePolicy::AllLinear, count);
     }
     return *slot;
-}
-
-TechniqueContext contextFor(const LoadedScene& s, Device& device, const nlohmann::json& options) {
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = s.resources.get();
-    ctx.camera = s.camera;
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.options = options;
-    ctx.sceneFile = s.desc.file.string();
-    return ctx;
 }
 
 // Runs the technique's passes, all of them or all but the last ("transparent").
 void run(const std::string& scene, const std::string& technique, const nlohmann::json& options, BufferRegistry& registry,
          std::uint32_t threads = 2, bool withoutTransparent = false) {
-    const LoadedScene& s = loaded(scene);
+    const test::BundledScene& s = loaded(scene);
     Device device(DeviceConfig{64, threads});
-    const Frame frame = buildTechnique(technique, contextFor(s, device, options), s.desc.file.string());
+    const Frame frame = buildTechnique(technique, s.context(device, options), s.description().file.string());
     Frame partial;
     for (const Pass& pass : frame.passes())
         if (!(withoutTransparent && pass.name == "transparent")) partial.add(pass);
     partial.run(registry);
-}
-
-// The interpolated posView the forward opaque pass shades at each pixel: the same draws and
-// states as forward's OpaquePass, with a pixel shader that writes (posView, 1).
-struct PositionPS {
-    using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 1;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
-        out.target[0] = glm::vec4(in.varyings.posView, 1.0f);
-    }
-};
-
-Surface opaquePositions(const LoadedScene& s, const ForwardPassSetup& setup, Device& device) {
-    Surface position({kWidth, kHeight, Format::R32G32B32A32_FLOAT, 1});
-    position.clearColor(glm::vec4(0.0f));  // w = 0: no geometry
-    Surface depth({kWidth, kHeight, Format::D24_UNORM_S8_UINT, 1});
-    depth.clearDepthStencil(true, 1.0f, true, 0);
-    RenderTargets rt;
-    rt.colors[0] = &position;
-    rt.depthStencil = &depth;
-    const SceneResources& res = *s.resources;
-    for (const DrawItem& item : res.drawItems()) {
-        const PhongMaterial material = phongFromGltf(res.material(item.material));
-        if (material.isTransparent()) continue;
-        DrawState st;
-        st.viewport = Viewport{0.0f, 0.0f, float(kWidth), float(kHeight), 0.0f, 1.0f};
-        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
-        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
-        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, PositionPS{});
-    }
-    return position;
 }
 
 struct ListCheck {
@@ -133,13 +67,13 @@ struct ListCheck {
 // list. (N.L and the specular term are left out: the culling is geometric, so this only asks
 // for more lights than strictly necessary.)
 ListCheck checkOpaqueLists(const std::string& scene, const nlohmann::json& options) {
-    const LoadedScene& s = loaded(scene);
+    const test::BundledScene& s = loaded(scene);
     Device device(DeviceConfig{64, 2});
-    const TechniqueContext ctx = contextFor(s, device, options);
+    const TechniqueContext ctx = s.context(device, options);
     const bool d3d = options.contains("projection") && options["projection"] == "d3d";
     const auto setup = makeForwardPassSetup(ctx, d3d ? ProjectionConvention::D3d : ProjectionConvention::DemoGl,
                                             PhongSamplerChoice::Demo, false);
-    const Surface positions = opaquePositions(s, *setup, device);
+    const Surface positions = test::opaqueShadingPoints(s.resources(), *setup, device, kWidth, kHeight);
     BufferRegistry reg;
     run(scene, "forward-plus", options, reg, 2, true);
     const Surface& grid = reg.get("lightgrid.opaque");
@@ -150,7 +84,7 @@ ListCheck checkOpaqueLists(const std::string& scene, const nlohmann::json& optio
     for (std::uint32_t y = 0; y < kHeight; ++y)
         for (std::uint32_t x = 0; x < kWidth; ++x) {
             const glm::vec4 p = positions.load(x, y);
-            if (p.w == 0.0f) continue;
+            if (p.w < 0.0f) continue;  // no opaque geometry
             ++check.pixels;
             const glm::uvec2 cell(grid.loadUint(x / tile, y / tile));
             std::set<std::uint32_t> listed;
@@ -177,7 +111,7 @@ ListCheck checkOpaqueLists(const std::string& scene, const nlohmann::json& optio
 } // namespace
 
 TEST_CASE("forward-plus scenes: on opaque geometry the image equals forward's bit for bit") {
-    for (const std::string& scene : bundledScenes()) {
+    for (const std::string& scene : test::bundledSceneNames()) {
         for (const char* projection : {"demo-gl", "d3d"}) {
             CAPTURE(scene);
             CAPTURE(projection);
@@ -192,7 +126,7 @@ TEST_CASE("forward-plus scenes: on opaque geometry the image equals forward's bi
 }
 
 TEST_CASE("forward-plus scenes: every light that reaches a pixel is in its tile's opaque list") {
-    for (const std::string& scene : bundledScenes()) {
+    for (const std::string& scene : test::bundledSceneNames()) {
         for (const int tile : {8, 16, 32}) {
             CAPTURE(scene);
             CAPTURE(tile);
@@ -239,7 +173,7 @@ TEST_CASE("forward-plus scenes: the article's cone test (coneTest demo) drops no
 }
 
 TEST_CASE("forward-plus scenes: binned culling equals the brute-force loop, outputs equal at 1 and 2 threads") {
-    for (const std::string& scene : bundledScenes()) {
+    for (const std::string& scene : test::bundledSceneNames()) {
         CAPTURE(scene);
         BufferRegistry binned, brute, one;
         run(scene, "forward-plus", {}, binned, 2);

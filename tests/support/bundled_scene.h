@@ -1,6 +1,7 @@
 // A bundled scene (scenes/<name>.json) loaded once at a chosen size, rendered through any
-// technique at any thread count; and the golden check the golden tests share: render at 1 and 2
-// threads, require the same bytes, compare with golden/<scene>/<name>.png.
+// technique at any thread count; the golden check the golden tests share (render at 1 and 2
+// threads, require the same bytes, compare with golden/<scene>/<name>.png); and the opaque
+// pass's shading points, the ground truth of the brute-force light-list tests.
 #pragma once
 
 #include <doctest/doctest.h>
@@ -8,10 +9,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <tessera/scene/scene_file.h>
+#include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>
 
 #include "support/golden_check.h"
@@ -23,13 +26,30 @@ class BundledScene {
 public:
     // width/height 0: the scene file's resolution. Colour textures decode per `policy` (a
     // technique's TexturePolicy; techniques with different policies need separate loads).
-    BundledScene(const std::string& name, std::uint32_t width, std::uint32_t height, TexturePolicy policy)
+    // generatorCount: every light generator's count (what `tessera render --lights N` does).
+    BundledScene(const std::string& name, std::uint32_t width, std::uint32_t height, TexturePolicy policy,
+                 std::optional<std::uint32_t> generatorCount = std::nullopt)
         : name_(name) {
         desc_ = parseSceneFile(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes" / (name + ".json"));
         if (width != 0) desc_.width = width;
         if (height != 0) desc_.height = height;
+        if (generatorCount)
+            for (auto& generator : desc_.generators) generator.count = *generatorCount;
         scene_ = std::make_unique<Scene>(loadScene(desc_, true, &camera_));
         resources_ = std::make_unique<SceneResources>(*scene_, nullptr, policy);
+    }
+
+    // A technique context for this scene on `device` with `options`.
+    TechniqueContext context(Device& device, const nlohmann::json& options) const {
+        TechniqueContext ctx;
+        ctx.device = &device;
+        ctx.resources = resources_.get();
+        ctx.camera = camera_;
+        ctx.width = desc_.width;
+        ctx.height = desc_.height;
+        ctx.options = options;
+        ctx.sceneFile = desc_.file.string();
+        return ctx;
     }
 
     // The technique's frame run once. `options`: the scene file's options when the technique is
@@ -38,15 +58,9 @@ public:
                           const nlohmann::json* options = nullptr, DrawStats* stats = nullptr) const {
         Device device(DeviceConfig{64, threads});
         DrawStats localStats;
-        TechniqueContext ctx;
-        ctx.device = &device;
-        ctx.resources = resources_.get();
-        ctx.camera = camera_;
-        ctx.width = desc_.width;
-        ctx.height = desc_.height;
-        ctx.options = options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object();
+        TechniqueContext ctx = context(
+            device, options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object());
         ctx.stats = stats ? stats : &localStats;
-        ctx.sceneFile = desc_.file.string();
         BufferRegistry registry;
         buildTechnique(technique, ctx, desc_.file.string()).run(registry);
         return registry;
@@ -74,6 +88,41 @@ inline std::vector<std::string> bundledSceneNames() {
             names.push_back(entry.path().stem().string());
     std::sort(names.begin(), names.end());
     return names;
+}
+
+// The opaque pass's shading points: (posView, SV_Position.z) per pixel, w = -1 where no opaque
+// geometry; the same draws and states as forward's OpaquePass (forward.h), with a pixel shader
+// that writes the interpolated view position.
+struct ShadingPointPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 1;
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
+        out.target[0] = glm::vec4(in.varyings.posView, in.posWindow.z);
+    }
+};
+
+inline Surface opaqueShadingPoints(const SceneResources& res, const ForwardPassSetup& setup, Device& device,
+                                   std::uint32_t width, std::uint32_t height) {
+    Surface position({width, height, Format::R32G32B32A32_FLOAT, 1});
+    position.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
+    Surface depth({width, height, Format::D24_UNORM_S8_UINT, 1});
+    depth.clearDepthStencil(true, 1.0f, true, 0);
+    RenderTargets rt;
+    rt.colors[0] = &position;
+    rt.depthStencil = &depth;
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;
+        DrawState st;
+        st.viewport = Viewport{0.0f, 0.0f, float(width), float(height), 0.0f, 1.0f};
+        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
+        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ShadingPointPS{});
+    }
+    return position;
 }
 
 // Renders `technique` at 1 and 2 threads, checks that the back buffers hold the same bytes, and

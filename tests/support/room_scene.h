@@ -1,6 +1,6 @@
 // The small opaque room the technique unit tests render in memory (a floor and a wall, two
-// glTF materials, point + spot + directional lights, 128x96), the render call they share, and
-// byte / RGBA8-code comparisons of surfaces.
+// glTF materials, point + spot + directional lights, 128x96 unless a test asks for another
+// size), the render call they share, and byte / RGBA8-code comparisons of surfaces.
 #pragma once
 
 #include <doctest/doctest.h>
@@ -41,15 +41,17 @@ struct LightSpec {
     float range, angleDeg;
 };
 
-// Floor y = 0 (20 x 20 around the origin) and a wall z = -6, opaque glTF materials with
-// specular power 30 (roughness 0.5) and 245 (roughness 0.3, metallic 0.5); camera at (0, 3, 8)
-// looking at (0, 0.5, 0), 45 degrees, near 0.1, far 100.
+// Floor y = 0 (20 x 20 around the origin) and a wall z = -6 from y = wallBaseY up, opaque glTF
+// materials with specular power 30 (roughness 0.5) and 245 (roughness 0.3, metallic 0.5);
+// camera at `eye` looking at (0, 0.5, 0), 45 degrees, near 0.1, far 100. wallBaseY 0.05: the
+// wall and the floor do not touch, so no two surfaces share a depth value and forward's LESS and
+// a depth pre-pass's LESS_EQUAL pick the same fragments.
 struct TestScene {
     Scene scene;
     Camera camera;
 };
 
-inline TestScene makeScene(const std::vector<Light>& lights, glm::vec3 eye = {0.0f, 3.0f, 8.0f}) {
+inline TestScene makeScene(const std::vector<Light>& lights, glm::vec3 eye = {0.0f, 3.0f, 8.0f}, float wallBaseY = 0.0f) {
     TestScene t;
     Material floor;
     floor.baseColorFactor = {0.8f, 0.7f, 0.6f, 1.0f};
@@ -62,7 +64,7 @@ inline TestScene makeScene(const std::vector<Light>& lights, glm::vec3 eye = {0.
     t.scene.materials = {floor, wall};
     Mesh mesh;
     mesh.primitives.push_back(quad({-10.0f, 0.0f, 10.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -20.0f}, 0));
-    mesh.primitives.push_back(quad({-10.0f, 0.0f, -6.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, 1));
+    mesh.primitives.push_back(quad({-10.0f, wallBaseY, -6.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, 1));
     t.scene.meshes.push_back(mesh);
     t.scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "room"});
     t.scene.lights = lights;
@@ -96,18 +98,19 @@ struct Rendered {
     BufferRegistry registry;
     std::map<std::string, std::uint64_t> variants;
     const Surface& back() { return registry.get(kBackBufferName); }
+    const Surface& get(std::string_view name) { return registry.get(name); }
 };
 
 inline void render(const TestScene& t, const std::string& technique, const nlohmann::json& options, Rendered& out,
-            Precision precision = Precision::Exact, std::uint32_t threads = 2) {
+                   Precision precision = Precision::Exact, std::uint32_t threads = 2, glm::uvec2 sizePx = {kWidth, kHeight}) {
     const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
     Device device(DeviceConfig{32, threads});
     TechniqueContext ctx;
     ctx.device = &device;
     ctx.resources = &resources;
     ctx.camera = t.camera;
-    ctx.width = kWidth;
-    ctx.height = kHeight;
+    ctx.width = sizePx.x;
+    ctx.height = sizePx.y;
     ctx.options = options;
     ctx.precision = precision;
     ctx.variantCounts = &out.variants;

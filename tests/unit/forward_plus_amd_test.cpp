@@ -32,33 +32,9 @@ using test::quad;
 constexpr std::uint32_t kWidth = 64, kHeight = 48;
 constexpr std::uint32_t kTiles = (kWidth / 8) * (kHeight / 8);
 
-// A floor (y = 0, 20 x 20) and a wall (z = -6) filling the view from (0, 3, 8): every tile has
-// geometry, so every tile runs the light test.
-Scene makeScene(const std::vector<Light>& lights) {
-    Scene scene;
-    Material floor;
-    floor.baseColorFactor = {0.8f, 0.7f, 0.6f, 1.0f};
-    Material wall;
-    wall.baseColorFactor = {0.5f, 0.6f, 0.9f, 1.0f};
-    scene.materials = {floor, wall};
-    Mesh mesh;
-    mesh.primitives.push_back(quad({-10.0f, 0.0f, 10.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -20.0f}, 0));
-    mesh.primitives.push_back(quad({-10.0f, 0.05f, -6.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, 1));
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "room"});
-    scene.lights = lights;
-    return scene;
-}
-
-Camera makeCamera() {
-    Camera c;
-    const glm::vec3 eye(0.0f, 3.0f, 8.0f);
-    c.positionWorld = eye;
-    c.orientationWorld = glm::quatLookAtRH(glm::normalize(glm::vec3(0.0f, 0.5f, 0.0f) - eye), glm::vec3(0, 1, 0));
-    c.nearZ = 0.1f;
-    c.farZ = 100.0f;
-    return c;
-}
+// The room of support/room_scene.h (floor, wall lifted off it, camera at (0, 3, 8)): every tile
+// has geometry, so every tile runs the light test.
+test::TestScene makeScene(const std::vector<Light>& lights) { return test::makeScene(lights, {0.0f, 3.0f, 8.0f}, 0.05f); }
 
 // n point lights of range 1000 around the room (every tile's slab and side planes lie well
 // inside each sphere); withSpots: every 3rd one a spot of half angle 30 deg pointing down.
@@ -80,25 +56,16 @@ std::vector<Light> bigLights(std::size_t n, bool withSpots = false) {
     return lights;
 }
 
-BufferRegistry render(const Scene& scene, const nlohmann::json& options, std::uint32_t threads = 2) {
-    const SceneResources resources(scene, {}, TexturePolicy::AllLinear);
-    Device device(DeviceConfig{32, threads});
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = makeCamera();
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.options = options;
-    ctx.sceneFile = "memory.json";
-    BufferRegistry reg;
-    buildTechnique("forward-plus-amd", ctx, ctx.sceneFile).run(reg);
-    return reg;
+// A 64 x 48 px forward-plus-amd render of the room.
+BufferRegistry renderRoom(const test::TestScene& scene, const nlohmann::json& options, std::uint32_t threads = 2) {
+    test::Rendered out;
+    test::render(scene, "forward-plus-amd", options, out, Precision::Exact, threads, {kWidth, kHeight});
+    return std::move(out.registry);
 }
 
 std::string errorOf(const nlohmann::json& options) {
     try {
-        render(makeScene(bigLights(2)), options);
+        renderRoom(makeScene(bigLights(2)), options);
     } catch (const InputError& e) {
         return e.what();
     }
@@ -124,7 +91,7 @@ TEST_CASE("forward-plus-amd: LIGHT_CAPACITY 256 overflow is counted and the rada
     // 300 lights that all reach every tile (range 1000 around a 20-unit room): each of the 48
     // tiles finds 300, keeps 256 and drops 44, so 48 * 44 = 2112 lights are dropped and the pool
     // holds 48 * 256 = 12288 entries. The radar colour of a count above the maximum is white.
-    BufferRegistry reg = render(makeScene(bigLights(300)), {});
+    BufferRegistry reg = renderRoom(makeScene(bigLights(300)), {});
     const ForwardPlusCounters c = readForwardPlusCounters(reg);
     CHECK(c.opaque.tilesOverLocal == kTiles);
     CHECK(c.opaque.droppedLocal == kTiles * (300 - kAmdLightCapacity));
@@ -136,14 +103,14 @@ TEST_CASE("forward-plus-amd: LIGHT_CAPACITY 256 overflow is counted and the rada
     std::memcpy(&texel, radar.texel(kWidth / 2, kHeight / 2), sizeof(texel));
     CHECK(texel == 0xFFFFFFFFu);
     // 256 lights: exactly full, nothing dropped, the "at max" light purple.
-    BufferRegistry full = render(makeScene(bigLights(256)), {});
+    BufferRegistry full = renderRoom(makeScene(bigLights(256)), {});
     const ForwardPlusCounters f = readForwardPlusCounters(full);
     CHECK(f.opaque.tilesOverLocal == 0);
     CHECK(f.opaque.droppedLocal == 0);
     std::memcpy(&texel, full.get("heatmap.radar").texel(0, 0), sizeof(texel));
     CHECK(texel == rgba8FromColor(kAmdRadarAtMax));
     // Half-Z: both lists of a tile overflow on their own; row 2 counts list B.
-    BufferRegistry halfZ = render(makeScene(bigLights(300)), {{"halfZ", true}});
+    BufferRegistry halfZ = renderRoom(makeScene(bigLights(300)), {{"halfZ", true}});
     CHECK(readForwardPlusCounters(halfZ).opaque.tilesOverLocal == kTiles);
     const Surface& countersSurface = halfZ.get("lightlist.counters");
     LightListCounters far{};
@@ -153,13 +120,13 @@ TEST_CASE("forward-plus-amd: LIGHT_CAPACITY 256 overflow is counted and the rada
 }
 
 TEST_CASE("forward-plus-amd: every buffer is identical at 1, 2 and 7 threads") {
-    const Scene scene = makeScene(bigLights(40, true));
+    const test::TestScene scene = makeScene(bigLights(40, true));
     for (const nlohmann::json& options : {nlohmann::json::object(), nlohmann::json{{"halfZ", true}},
                                           nlohmann::json{{"shading", "3dgep"}, {"culling", "min-max"}}}) {
         CAPTURE(options.dump());
-        BufferRegistry one = render(scene, options, 1);
+        BufferRegistry one = renderRoom(scene, options, 1);
         for (const std::uint32_t threads : {2u, 7u}) {
-            BufferRegistry other = render(scene, options, threads);
+            BufferRegistry other = renderRoom(scene, options, threads);
             for (const std::string& name : one.names()) {
                 CAPTURE(name);
                 CHECK(sameBytes(one.get(name), other.get(name)));

@@ -28,36 +28,8 @@ using test::quad;
 // entries each.
 constexpr std::uint32_t kWidth = 64, kHeight = 48;
 
-// A floor (y = 0) and a wall (z = -6) that do not touch (the wall starts at y = 0.05), so no
-// two surfaces share a depth value and forward's LESS and Forward+'s LESS_EQUAL pick the same
-// fragments. Camera at (0, 3, 8) looking at (0, 0.5, 0).
-Scene makeScene(const std::vector<Light>& lights) {
-    Scene scene;
-    Material floor;
-    floor.baseColorFactor = {0.8f, 0.7f, 0.6f, 1.0f};
-    floor.roughnessFactor = 0.5f;
-    Material wall;
-    wall.baseColorFactor = {0.5f, 0.6f, 0.9f, 1.0f};
-    wall.roughnessFactor = 0.3f;
-    scene.materials = {floor, wall};
-    Mesh mesh;
-    mesh.primitives.push_back(quad({-10.0f, 0.0f, 10.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -20.0f}, 0));
-    mesh.primitives.push_back(quad({-10.0f, 0.05f, -6.0f}, {20.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, 1));
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "room"});
-    scene.lights = lights;
-    return scene;
-}
-
-Camera makeCamera() {
-    Camera c;
-    const glm::vec3 eye(0.0f, 3.0f, 8.0f);
-    c.positionWorld = eye;
-    c.orientationWorld = glm::quatLookAtRH(glm::normalize(glm::vec3(0.0f, 0.5f, 0.0f) - eye), glm::vec3(0, 1, 0));
-    c.nearZ = 0.1f;
-    c.farZ = 100.0f;
-    return c;
-}
+// The room of support/room_scene.h with the wall lifted off the floor (no shared depths).
+test::TestScene makeScene(const std::vector<Light>& lights) { return test::makeScene(lights, {0.0f, 3.0f, 8.0f}, 0.05f); }
 
 Light pointLight(glm::vec3 position, float range, glm::vec3 color) {
     Light l;
@@ -94,25 +66,12 @@ std::vector<Light> overflowLights(std::size_t n) {
     return lights;
 }
 
-struct Rendered {
-    BufferRegistry registry;
-    const Surface& get(std::string_view name) { return registry.get(name); }
-};
+using test::Rendered;
 
-void render(const Scene& scene, const std::string& technique, const nlohmann::json& options, Rendered& out,
-            std::uint32_t threads = 2, Precision precision = Precision::Exact) {
-    const SceneResources resources(scene, {}, TexturePolicy::AllLinear);
-    Device device(DeviceConfig{32, threads});
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = makeCamera();
-    ctx.width = kWidth;
-    ctx.height = kHeight;
-    ctx.options = options;
-    ctx.precision = precision;
-    ctx.sceneFile = "memory.json";
-    buildTechnique(technique, ctx, ctx.sceneFile).run(out.registry);
+// 64 x 48 px renders of the room.
+void renderRoom(const test::TestScene& scene, const std::string& technique, const nlohmann::json& options, Rendered& out,
+                std::uint32_t threads = 2, Precision precision = Precision::Exact) {
+    test::render(scene, technique, options, out, precision, threads, {kWidth, kHeight});
 }
 
 bool samePixel(const Surface& a, const Surface& b, std::uint32_t x, std::uint32_t y) {
@@ -130,7 +89,7 @@ int tileDifferences(const Surface& a, const Surface& b, std::uint32_t tx, std::u
 std::string errorOf(const nlohmann::json& options, Precision precision = Precision::Exact) {
     Rendered r;
     try {
-        render(makeScene(overflowLights(2)), "forward-plus", options, r, 2, precision);
+        renderRoom(makeScene(overflowLights(2)), "forward-plus", options, r, 2, precision);
     } catch (const InputError& e) {
         return e.what();
     }
@@ -157,9 +116,9 @@ TEST_CASE("forward-plus: the demo's lists overflow faithfully and the counters s
     // global list holds 12 * 200 = 2400: tiles 0 and 1 fit (0..2199), tile 2 (2200..3299) keeps
     // 200 entries and drops 900, tiles 3..11 drop all 1100: tilesOverGlobal 10,
     // droppedGlobal 900 + 9 * 1100 = 10800, requested 12 * 1100 = 13200.
-    const Scene scene = makeScene(overflowLights(1100));
+    const test::TestScene scene = makeScene(overflowLights(1100));
     Rendered plus;
-    render(scene, "forward-plus", {{"projection", "d3d"}}, plus);
+    renderRoom(scene, "forward-plus", {{"projection", "d3d"}}, plus);
     const ForwardPlusCounters c = readForwardPlusCounters(plus.registry);
     for (const LightListCounters* l : {&c.opaque, &c.transparent}) {
         CHECK(l->requested == 13200);
@@ -185,12 +144,12 @@ TEST_CASE("forward-plus: the demo's lists overflow faithfully and the counters s
     // nothing): forward with lights 0..1024. Tile 2 by the 200 entries that fit: forward with
     // lights 0..200. Tiles 3..11 read index 0 everywhere: lit by nothing, the unlit image (the
     // article's black tiles).
-    std::vector<Light> first1025(scene.lights.begin(), scene.lights.begin() + 1025);
-    std::vector<Light> first201(scene.lights.begin(), scene.lights.begin() + 201);
+    std::vector<Light> first1025(scene.scene.lights.begin(), scene.scene.lights.begin() + 1025);
+    std::vector<Light> first201(scene.scene.lights.begin(), scene.scene.lights.begin() + 201);
     Rendered forward1025, forward201, unlit;
-    render(makeScene(first1025), "forward", {{"projection", "d3d"}}, forward1025);
-    render(makeScene(first201), "forward", {{"projection", "d3d"}}, forward201);
-    render(makeScene({}), "forward", {{"projection", "d3d"}}, unlit);
+    renderRoom(makeScene(first1025), "forward", {{"projection", "d3d"}}, forward1025);
+    renderRoom(makeScene(first201), "forward", {{"projection", "d3d"}}, forward201);
+    renderRoom(makeScene({}), "forward", {{"projection", "d3d"}}, unlit);
     const Surface& back = plus.get(kBackBufferName);
     CHECK(tileDifferences(back, forward1025.get(kBackBufferName), 0, 0) == 0);
     CHECK(tileDifferences(back, forward1025.get(kBackBufferName), 1, 0) == 0);
@@ -201,10 +160,10 @@ TEST_CASE("forward-plus: the demo's lists overflow faithfully and the counters s
 }
 
 TEST_CASE("forward-plus: unbounded lists drop nothing and the image equals forward's") {
-    const Scene scene = makeScene(overflowLights(1100));
+    const test::TestScene scene = makeScene(overflowLights(1100));
     Rendered plus, forward;
-    render(scene, "forward-plus", {{"projection", "d3d"}, {"lightLists", "unbounded"}}, plus);
-    render(scene, "forward", {{"projection", "d3d"}}, forward);
+    renderRoom(scene, "forward-plus", {{"projection", "d3d"}, {"lightLists", "unbounded"}}, plus);
+    renderRoom(scene, "forward", {{"projection", "d3d"}}, forward);
     const ForwardPlusCounters c = readForwardPlusCounters(plus.registry);
     for (const LightListCounters* l : {&c.opaque, &c.transparent}) {
         CHECK(l->requested == 13200);  // 12 tiles x 1100 lights
@@ -234,14 +193,14 @@ TEST_CASE("forward-plus: light grid, index lists, frustums and heat map are iden
         lights.push_back(l);
     }
     appendLightsBesideCamera(lights);
-    const Scene scene = makeScene(lights);
+    const test::TestScene scene = makeScene(lights);
     for (const int tile : {8, 16, 32}) {
         CAPTURE(tile);
         Rendered one, two, seven;
         const nlohmann::json options{{"tileSize", tile}};
-        render(scene, "forward-plus", options, one, 1);
-        render(scene, "forward-plus", options, two, 2);
-        render(scene, "forward-plus", options, seven, 7);
+        renderRoom(scene, "forward-plus", options, one, 1);
+        renderRoom(scene, "forward-plus", options, two, 2);
+        renderRoom(scene, "forward-plus", options, seven, 7);
         for (const char* name : {"frustums", "lightgrid.opaque", "lightgrid.transparent", "lightindex.opaque",
                                  "lightindex.transparent", "heatmap", "lightlist.counters", "backbuffer"}) {
             CAPTURE(name);
@@ -281,14 +240,14 @@ TEST_CASE("forward-plus: binned culling gives the brute-force loop's lists") {
         l.spotHalfAngleDeg = 2.0f + float(k * 7 % 87);
         lights.push_back(l);
     }
-    const Scene scene = makeScene(lights);
+    const test::TestScene scene = makeScene(lights);
     for (const std::string coneTest : {"demo", "corrected"}) {
         for (const int tile : {8, 16, 32}) {
             CAPTURE(coneTest);
             CAPTURE(tile);
             Rendered binned, brute;
-            render(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}}, binned);
-            render(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}, {"culling", "brute"}}, brute);
+            renderRoom(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}}, binned);
+            renderRoom(scene, "forward-plus", {{"tileSize", tile}, {"coneTest", coneTest}, {"culling", "brute"}}, brute);
             for (const char* name : {"lightgrid.opaque", "lightgrid.transparent", "lightindex.opaque", "lightindex.transparent"}) {
                 CAPTURE(name);
                 CHECK(sameBytes(binned.get(name), brute.get(name)));
