@@ -382,9 +382,8 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
 }
 
 Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
-    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
-    if (ctx.precision != Precision::Exact)
-        throw inputError(file, "/precision", "precision 'reference' and 'fast' are not implemented for deferred yet (use exact)");
+    const std::string file = ctx.errorFile();
+    requirePrecision(ctx, method == Method::Killzone ? "deferred-killzone" : "deferred");
     auto setup = std::make_shared<DeferredSetup>();
     setup->method = method;
     setup->options = parseOptions(ctx, method, file);

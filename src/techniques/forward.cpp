@@ -118,9 +118,8 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
 }
 
 Frame buildForward(const TechniqueContext& ctx) {
-    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
-    if (ctx.precision == Precision::Fast)
-        throw inputError(file, "/precision", "precision 'fast' is not implemented for forward yet (use exact or reference)");
+    const std::string file = ctx.errorFile();
+    requirePrecision(ctx, "forward", true);
     const std::string projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file);
     const std::string sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file);
     const bool alphaTest = optionBool(ctx.options, "alphaTest", false, file);

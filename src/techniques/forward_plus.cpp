@@ -845,9 +845,8 @@ ForwardPlusCounters readForwardPlusCounters(const BufferRegistry& registry) {
 }
 
 Frame buildForwardPlus(const TechniqueContext& ctx) {
-    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
-    if (ctx.precision != Precision::Exact)
-        throw inputError(file, "/precision", "forward-plus supports precision 'exact' only");
+    const std::string file = ctx.errorFile();
+    requirePrecision(ctx, "forward-plus");
     auto st = std::make_shared<ForwardPlusState>();
     st->options = parseOptions(ctx, file);
     st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);

@@ -369,9 +369,8 @@ SpotBoundingSphere spotBoundingSphere(float range, float halfAngleDeg) {
 }
 
 Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
-    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
-    if (ctx.precision != Precision::Exact)
-        throw inputError(file, "/precision", "forward-plus-amd supports precision 'exact' only");
+    const std::string file = ctx.errorFile();
+    requirePrecision(ctx, "forward-plus-amd");
     auto st = std::make_shared<AmdState>();
     st->options = parseOptions(ctx, file);
     st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);

@@ -73,4 +73,12 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
     return t->build(context);
 }
 
+
+void requirePrecision(const TechniqueContext& ctx, std::string_view technique, bool allowReference) {
+    if (ctx.precision == Precision::Exact || (allowReference && ctx.precision == Precision::Reference)) return;
+    throw inputError(ctx.errorFile(), "/precision",
+                     "precision '" + std::string(precisionName(ctx.precision)) + "' is not implemented for " + std::string(technique) +
+                         " (use exact" + (allowReference ? " or reference)" : ")"));
+}
+
 } // namespace tessera

@@ -339,9 +339,8 @@ void dispatchTiles(TiledSetup& s, Device& device) {
 } // namespace
 
 Frame buildTiledDeferred(const TechniqueContext& ctx) {
-    const std::string file = ctx.sceneFile.empty() ? std::string("scene") : ctx.sceneFile;
-    if (ctx.precision != Precision::Exact)
-        throw inputError(file, "/precision", "precision 'reference' and 'fast' are not implemented for tiled-deferred yet (use exact)");
+    const std::string file = ctx.errorFile();
+    requirePrecision(ctx, "tiled-deferred");
     if (ctx.camera.projection == ProjectionKind::Orthographic)
         throw inputError(file, "/camera", "tiled-deferred needs a perspective camera (Intel's tile planes and view-z reconstruction)");
     auto setup = std::make_shared<TiledSetup>();

@@ -29,7 +29,14 @@ struct TechniqueContext {
     // Draws per shader variant ("exact:diffuse+normal", ...), for --stats; may be null.
     std::map<std::string, std::uint64_t>* variantCounts = nullptr;
     std::string sceneFile;                     // named in the InputErrors of option values
+
+    // The file InputErrors name: sceneFile, or "scene" for an in-memory scene.
+    std::string errorFile() const { return sceneFile.empty() ? std::string("scene") : sceneFile; }
 };
+
+// Throws InputError(errorFile(), "/precision", ...) unless ctx.precision is one `technique`
+// implements: Exact always, Reference where allowReference.
+void requirePrecision(const TechniqueContext& ctx, std::string_view technique, bool allowReference = false);
 
 struct TechniqueInfo {
     std::string_view id;
