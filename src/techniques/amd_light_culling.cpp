@@ -1,6 +1,7 @@
 // The GPU Pro 4 light-culling kernel (seed 002 §2, §6) as a compute::dispatch kernel: one group of
 // 8x8 threads per tile, group-shared depth bounds, 2.5D mask and light list, then the write-back
 // into one global pool through an OrderedCounter, so Parallel and Serial give the same bytes.
+// The binned light loop (tessera) hands each group its tile's candidate lights instead of all.
 #include <tessera/techniques/amd_light_culling.h>
 
 #include <tessera/compute/interlocked.h>
