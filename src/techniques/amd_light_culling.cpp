@@ -146,6 +146,12 @@ struct AmdCullKernel {
     AmdTileLightLists* out = nullptr;
     compute::OrderedCounter* poolCounter = nullptr;
     const AmdLightBins* bins = nullptr;  // the binned loop's candidates; null: every light
+    // The binned loop's write-back: each group copies its lists to its own staging slice (from
+    // stageStart[tile]) and leaves the pool offsets to cullTilesAmd, which hands them out after
+    // the dispatch in row-major order, the values poolCounter would give. No group then waits
+    // for its predecessors' reservations. Null: the kernel's own write-back through poolCounter.
+    std::uint32_t* staging = nullptr;
+    const std::size_t* stageStart = nullptr;
 
     // The pixel's view z and whether it takes part (not the cleared value).
     bool viewZ(float d, float& z) const {
@@ -224,6 +230,20 @@ struct AmdCullKernel {
         g.forOneThread(0, [&](const compute::ThreadIds&) {
             const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
             const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
+            if (staging) {  // offsets after the dispatch (cullTilesAmd)
+                s.lightIdxStart = static_cast<std::uint32_t>(stageStart[tileIndex]);
+                s.lightIdxStartFar = s.lightIdxStart + count;
+                out->tileLightCount[tileIndex] = count;
+                out->tileFoundCount[tileIndex] = s.lightIdxCounter;
+                if (halfZ) {
+                    out->tileLightCountFar[tileIndex] = countFar;
+                    out->tileFoundCountFar[tileIndex] = s.lightIdxCounterFar;
+                }
+                out->tileMinZBits[tileIndex] = s.zMinBits;
+                out->tileMaxZBits[tileIndex] = s.zMaxBits;
+                out->tileDepthMask[tileIndex] = s.depthMask;
+                return;
+            }
             std::uint32_t startOffset = 0;
             if (count + countFar != 0) startOffset = poolCounter->reserve(g, count + countFar);
             s.lightIdxStart = startOffset;
@@ -243,11 +263,10 @@ struct AmdCullKernel {
         });
         const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
         const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
+        std::uint32_t* pool = staging ? staging : out->lightIndices.data();
         g.forEachThread([&](const compute::ThreadIds& t) {
-            for (std::uint32_t i = t.groupIndex; i < count; i += kThreadsPerTile)
-                out->lightIndices[s.lightIdxStart + i] = s.lightIdx[i];
-            for (std::uint32_t i = t.groupIndex; i < countFar; i += kThreadsPerTile)
-                out->lightIndices[s.lightIdxStartFar + i] = s.lightIdxFar[i];
+            for (std::uint32_t i = t.groupIndex; i < count; i += kThreadsPerTile) pool[s.lightIdxStart + i] = s.lightIdx[i];
+            for (std::uint32_t i = t.groupIndex; i < countFar; i += kThreadsPerTile) pool[s.lightIdxStartFar + i] = s.lightIdxFar[i];
         });
     }
 };
@@ -277,13 +296,18 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
     if (options.lightLoop == AmdLightLoop::Binned)
         bins = binLightsAmd(lightsViewLh, out.tileCount, glm::uvec2(depth.width, depth.height), inverseProjection, options.corners);
     // Worst case: every tile's lists (both with half-Z) full, or holding all of its candidates.
-    // Trimmed to the counter after the dispatch.
+    // Trimmed to the counter after the dispatch. Binned: the same bound per tile is its staging slice.
+    const bool binned = !bins.tileStart.empty();
+    std::vector<std::size_t> stageStart(binned ? tiles + 1 : 0, 0);
     std::size_t poolBound = 0;
     for (std::size_t t = 0; t < tiles; ++t) {
-        const std::size_t found = bins.tileStart.empty() ? lightsViewLh.size() : bins.tileStart[t + 1] - bins.tileStart[t];
+        const std::size_t found = binned ? bins.tileStart[t + 1] - bins.tileStart[t] : lightsViewLh.size();
         poolBound += (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, found);
+        if (binned) stageStart[t + 1] = poolBound;
     }
-    out.lightIndices.assign(poolBound, 0u);
+    if (poolBound > 0xFFFFFFFFu) throw std::length_error("cullTilesAmd: more than 2^32 light-list entries");
+    std::vector<std::uint32_t> staging(binned ? poolBound : 0);
+    out.lightIndices.assign(binned ? 0 : poolBound, 0u);
 
     compute::OrderedCounter poolCounter(0);  // gLightIdxCounter
     compute::OrderedCounter* counters[] = {&poolCounter};
@@ -294,12 +318,43 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
     kernel.options = options;
     kernel.out = &out;
     kernel.poolCounter = &poolCounter;
-    if (!bins.tileStart.empty()) kernel.bins = &bins;
     compute::DispatchDesc desc;
     desc.order = options.order;
-    desc.orderedCounters = counters;
+    if (binned) {
+        kernel.bins = &bins;
+        kernel.staging = staging.data();
+        kernel.stageStart = stageStart.data();
+    } else {
+        desc.orderedCounters = counters;
+    }
     compute::dispatch(kernel, glm::uvec3(out.tileCount, 1u), desc);
 
+    if (binned) {
+        // The reservations poolCounter would make, in row-major order: count + countFar entries
+        // for a tile with lights (A, then B), offset 0 for an empty list.
+        std::uint32_t next = 0;
+        for (std::size_t t = 0; t < tiles; ++t) {
+            const std::uint32_t count = out.tileLightCount[t], countFar = halfZ ? out.tileLightCountFar[t] : 0u;
+            std::uint32_t start = 0;
+            if (count + countFar != 0) {
+                start = next;
+                next += count + countFar;
+            }
+            if (halfZ) out.tileOffsetFar[t] = countFar != 0 ? start + count : 0u;
+            out.tileOffset[t] = count == 0 ? 0u : start;
+        }
+        poolCounter.reset(next);
+        out.lightIndices.resize(next);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t t = r.begin(); t < r.end(); ++t) {
+                const std::uint32_t* slice = staging.data() + stageStart[t];
+                const std::uint32_t count = out.tileLightCount[t];
+                std::copy(slice, slice + count, out.lightIndices.begin() + out.tileOffset[t]);
+                if (halfZ && out.tileLightCountFar[t] != 0)
+                    std::copy(slice + count, slice + count + out.tileLightCountFar[t], out.lightIndices.begin() + out.tileOffsetFar[t]);
+            }
+        });
+    }
     out.lightIndices.resize(poolCounter.value());
     for (std::size_t t = 0; t < tiles; ++t) {
         if (out.tileFoundCount[t] > kAmdLightCapacity) {

@@ -313,3 +313,35 @@ TEST_CASE("cullTilesAmd: a sphere 0.1% of r outside the screen's left edge is in
         CHECK(lists.lightIndices.size() == column0.size());  // the inside light reaches column 0 only
     }
 }
+
+TEST_CASE("cullTilesAmd half-Z: a tile whose near list is empty keeps offset 0 and its far list follows the pool, in both loops") {
+    // 16 x 8 px, two 8 x 8 tiles, LH 60 deg vertical fov, aspect 2. Tile 0 is a wall at view z 10;
+    // tile 1 holds z 5 (top half) and z 40 (bottom half), so its half-Z split is 22.5. Light 0 sits
+    // on tile 0's centre ray at z 10 (r 2); light 1 on tile 1's centre ray (NDC x 0.5: view x =
+    // 0.5 z tan 30 * 2) at z 39 (r 1), inside [22.5, 40] only. Expected pool: tile 0's lists
+    // (light 0), then tile 1's far list: offset(1) = 0 (its near list is empty, as the
+    // document's write-back leaves it), offsetFar(1) = the entries before it.
+    const glm::mat4 projection = glm::perspectiveLH_ZO(glm::radians(60.0f), 2.0f, 0.5f, 100.0f);
+    const auto depthAt = [&](float z) { return projection[2][2] + projection[3][2] / z; };
+    std::vector<float> depth(16 * 8);
+    for (std::uint32_t y = 0; y < 8; ++y)
+        for (std::uint32_t x = 0; x < 16; ++x) depth[y * 16 + x] = depthAt(x < 8 ? 10.0f : (y < 4 ? 5.0f : 40.0f));
+    const float t30 = std::tan(glm::radians(30.0f));
+    const std::vector<glm::vec4> lights{{-0.5f * 10.0f * t30 * 2.0f, 0.0f, 10.0f, 2.0f}, {0.5f * 39.0f * t30 * 2.0f, 0.0f, 39.0f, 1.0f}};
+    for (AmdLightLoop loop : {AmdLightLoop::AllLights, AmdLightLoop::Binned}) {
+        CAPTURE(loop == AmdLightLoop::Binned);
+        AmdCullingOptions o;
+        o.halfZ = true;
+        o.lightLoop = loop;
+        const AmdTileLightLists lists = cullTilesAmd(DepthImageView{depth, 16, 8}, lights, glm::inverse(projection), o);
+        REQUIRE(lists.tileCount == glm::uvec2(2, 1));
+        CHECK(lists.tileLightCount[1] == 0u);
+        REQUIRE(lists.tileLightCountFar[1] == 1u);
+        const std::uint32_t before = lists.tileLightCount[0] + lists.tileLightCountFar[0];
+        CHECK(before >= 1u);  // light 0 is in tile 0
+        CHECK(lists.tileOffset[1] == 0u);
+        CHECK(lists.tileOffsetFar[1] == before);
+        CHECK(lists.tileLightsFar(1)[0] == 1u);
+        CHECK(lists.lightIndices.size() == before + 1u);
+    }
+}
