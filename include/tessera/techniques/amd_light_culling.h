@@ -112,6 +112,8 @@ struct AmdTileLightLists {
 //      count != 0 reserve `count` entries of the global pool (InterlockedAdd in row-major group
 //      order, compute::OrderedCounter); ptLowerBound[t] = start; barrier
 //   6. the 64 threads copy the shared list into the pool (for i = lIdx; i < count; i += 64).
+//   (Binned loop: steps 5-6 copy into a per-tile staging slice instead, and the reservations are
+//   made after the dispatch in the same row-major order: the same offsets and pool.)
 // lightsViewLh: per light (centre x, y, z in AMD's left-handed view space, radius) — the kernel's
 // `mul(float4(center.xyz, 1), g_mView)` done once by the caller. inverseProjection: glm matrix of
 // the D3D projection's inverse (clipToView). Throws std::invalid_argument for an empty screen.
