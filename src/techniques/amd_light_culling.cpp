@@ -1,17 +1,18 @@
 // The GPU Pro 4 light-culling kernel (seed 002 §2, §6) as a compute::dispatch kernel: one group of
 // 8x8 threads per tile, group-shared depth bounds, 2.5D mask and light list, then the write-back
-// into one global pool through an OrderedCounter, so Parallel and Serial give the same bytes.
-// The binned light loop (tessera) hands each group its tile's candidate lights instead of all.
+// into one global pool with the offsets InterlockedAdd hands out in row-major group order, so
+// Parallel and Serial give the same bytes. The binned light loop (tessera) hands each group its
+// tile's candidate lights instead of all.
 #include <tessera/techniques/amd_light_culling.h>
 
 #include <tessera/compute/interlocked.h>
-#include <tessera/compute/ordered_counter.h>
 #include <tessera/math/depth_mask.h>
 #include <tessera/math/screen_to_view.h>
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <optional>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -144,12 +145,12 @@ struct AmdCullKernel {
     glm::mat4 inverseProjection{1.0f};
     AmdCullingOptions options;
     AmdTileLightLists* out = nullptr;
-    compute::OrderedCounter* poolCounter = nullptr;
     const AmdLightBins* bins = nullptr;  // the binned loop's candidates; null: every light
-    // The binned loop's write-back: each group copies its lists to its own staging slice (from
-    // stageStart[tile]) and leaves the pool offsets to cullTilesAmd, which hands them out after
-    // the dispatch in row-major order, the values poolCounter would give. No group then waits
-    // for its predecessors' reservations. Null: the kernel's own write-back through poolCounter.
+    // The write-back: each group copies its lists to its own staging slice (from stageStart[tile],
+    // room for min(candidates, 256) entries per list) and cullTilesAmd makes the pool
+    // reservations after the dispatch, in row-major group order: the offsets the kernel's
+    // InterlockedAdd(gLightIdxCounter) gives under compute/dispatch.h order rule 3, without any
+    // group waiting for its predecessors' reservations.
     std::uint32_t* staging = nullptr;
     const std::size_t* stageStart = nullptr;
 
@@ -230,53 +231,32 @@ struct AmdCullKernel {
         g.forOneThread(0, [&](const compute::ThreadIds&) {
             const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
             const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
-            if (staging) {  // offsets after the dispatch (cullTilesAmd)
-                s.lightIdxStart = static_cast<std::uint32_t>(stageStart[tileIndex]);
-                s.lightIdxStartFar = s.lightIdxStart + count;
-                out->tileLightCount[tileIndex] = count;
-                out->tileFoundCount[tileIndex] = s.lightIdxCounter;
-                if (halfZ) {
-                    out->tileLightCountFar[tileIndex] = countFar;
-                    out->tileFoundCountFar[tileIndex] = s.lightIdxCounterFar;
-                }
-                out->tileMinZBits[tileIndex] = s.zMinBits;
-                out->tileMaxZBits[tileIndex] = s.zMaxBits;
-                out->tileDepthMask[tileIndex] = s.depthMask;
-                return;
-            }
-            std::uint32_t startOffset = 0;
-            if (count + countFar != 0) startOffset = poolCounter->reserve(g, count + countFar);
-            s.lightIdxStart = startOffset;
-            s.lightIdxStartFar = countFar != 0 ? startOffset + count : 0u;
+            // The reservation (if count != 0: InterlockedAdd(gLightIdxCounter, count, start);
+            // ptLowerBound[t] = start) is made after the dispatch (cullTilesAmd).
+            s.lightIdxStart = static_cast<std::uint32_t>(stageStart[tileIndex]);
+            s.lightIdxStartFar = s.lightIdxStart + count;
+            out->tileLightCount[tileIndex] = count;
+            out->tileFoundCount[tileIndex] = s.lightIdxCounter;
             if (halfZ) {
-                out->tileOffsetFar[tileIndex] = s.lightIdxStartFar;
                 out->tileLightCountFar[tileIndex] = countFar;
                 out->tileFoundCountFar[tileIndex] = s.lightIdxCounterFar;
             }
-            if (count == 0) startOffset = 0;  // a list with no lights keeps offset 0
-            out->tileOffset[tileIndex] = startOffset;  // ptLowerBound[tileIdx]
-            out->tileLightCount[tileIndex] = count;
-            out->tileFoundCount[tileIndex] = s.lightIdxCounter;
             out->tileMinZBits[tileIndex] = s.zMinBits;
             out->tileMaxZBits[tileIndex] = s.zMaxBits;
             out->tileDepthMask[tileIndex] = s.depthMask;
         });
         const std::uint32_t count = std::min(s.lightIdxCounter, kAmdLightCapacity);
         const std::uint32_t countFar = std::min(s.lightIdxCounterFar, kAmdLightCapacity);
-        std::uint32_t* pool = staging ? staging : out->lightIndices.data();
         g.forEachThread([&](const compute::ThreadIds& t) {
-            for (std::uint32_t i = t.groupIndex; i < count; i += kThreadsPerTile) pool[s.lightIdxStart + i] = s.lightIdx[i];
-            for (std::uint32_t i = t.groupIndex; i < countFar; i += kThreadsPerTile) pool[s.lightIdxStartFar + i] = s.lightIdxFar[i];
+            for (std::uint32_t i = t.groupIndex; i < count; i += kThreadsPerTile) staging[s.lightIdxStart + i] = s.lightIdx[i];
+            for (std::uint32_t i = t.groupIndex; i < countFar; i += kThreadsPerTile) staging[s.lightIdxStartFar + i] = s.lightIdxFar[i];
         });
     }
 };
 
-}  // namespace
-
-AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
-                               const glm::mat4& inverseProjection, const AmdCullingOptions& options) {
-    if (depth.width == 0 || depth.height == 0 || depth.depth.size() < std::size_t{depth.width} * depth.height)
-        throw std::invalid_argument("cullTilesAmd: the depth buffer is empty or smaller than width x height");
+// One culling pass; bins: the candidates of the binned loop (null: all lights).
+AmdTileLightLists cullPass(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh, const glm::mat4& inverseProjection,
+                           const AmdCullingOptions& options, const AmdLightBins* bins) {
     AmdTileLightLists out;
     out.tileCount = tileCount(glm::uvec2(depth.width, depth.height), kAmdTileSizePx);
     const std::size_t tiles = std::size_t{out.tileCount.x} * out.tileCount.y;
@@ -292,70 +272,52 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
         out.tileLightCountFar.assign(tiles, 0u);
         out.tileFoundCountFar.assign(tiles, 0u);
     }
-    AmdLightBins bins;
-    if (options.lightLoop == AmdLightLoop::Binned)
-        bins = binLightsAmd(lightsViewLh, out.tileCount, glm::uvec2(depth.width, depth.height), inverseProjection, options.corners);
-    // Worst case: every tile's lists (both with half-Z) full, or holding all of its candidates.
-    // Trimmed to the counter after the dispatch. Binned: the same bound per tile is its staging slice.
-    const bool binned = !bins.tileStart.empty();
-    std::vector<std::size_t> stageStart(binned ? tiles + 1 : 0, 0);
-    std::size_t poolBound = 0;
+    // Each tile's staging slice: room for its lists (both with half-Z) full, or holding all of
+    // its candidates.
+    std::vector<std::size_t> stageStart(tiles + 1, 0);
     for (std::size_t t = 0; t < tiles; ++t) {
-        const std::size_t found = binned ? bins.tileStart[t + 1] - bins.tileStart[t] : lightsViewLh.size();
-        poolBound += (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, found);
-        if (binned) stageStart[t + 1] = poolBound;
+        const std::size_t found = bins ? bins->tileStart[t + 1] - bins->tileStart[t] : lightsViewLh.size();
+        stageStart[t + 1] = stageStart[t] + (halfZ ? 2u : 1u) * std::min<std::size_t>(kAmdLightCapacity, found);
     }
-    if (poolBound > 0xFFFFFFFFu) throw std::length_error("cullTilesAmd: more than 2^32 light-list entries");
-    std::vector<std::uint32_t> staging(binned ? poolBound : 0);
-    out.lightIndices.assign(binned ? 0 : poolBound, 0u);
+    if (stageStart.back() > 0xFFFFFFFFu) throw std::length_error("cullTilesAmd: more than 2^32 light-list entries");
+    std::vector<std::uint32_t> staging(stageStart.back());
 
-    compute::OrderedCounter poolCounter(0);  // gLightIdxCounter
-    compute::OrderedCounter* counters[] = {&poolCounter};
     AmdCullKernel kernel;
     kernel.depth = &depth;
     kernel.lights = lightsViewLh;
     kernel.inverseProjection = inverseProjection;
     kernel.options = options;
     kernel.out = &out;
-    kernel.poolCounter = &poolCounter;
+    kernel.bins = bins;
+    kernel.staging = staging.data();
+    kernel.stageStart = stageStart.data();
     compute::DispatchDesc desc;
     desc.order = options.order;
-    if (binned) {
-        kernel.bins = &bins;
-        kernel.staging = staging.data();
-        kernel.stageStart = stageStart.data();
-    } else {
-        desc.orderedCounters = counters;
-    }
     compute::dispatch(kernel, glm::uvec3(out.tileCount, 1u), desc);
 
-    if (binned) {
-        // The reservations poolCounter would make, in row-major order: count + countFar entries
-        // for a tile with lights (A, then B), offset 0 for an empty list.
-        std::uint32_t next = 0;
-        for (std::size_t t = 0; t < tiles; ++t) {
-            const std::uint32_t count = out.tileLightCount[t], countFar = halfZ ? out.tileLightCountFar[t] : 0u;
-            std::uint32_t start = 0;
-            if (count + countFar != 0) {
-                start = next;
-                next += count + countFar;
-            }
-            if (halfZ) out.tileOffsetFar[t] = countFar != 0 ? start + count : 0u;
-            out.tileOffset[t] = count == 0 ? 0u : start;
+    // gLightIdxCounter's reservations in row-major group order: count + countFar entries for a
+    // tile with lights (A, then B; uint32 arithmetic, as InterlockedAdd), offset 0 for an empty list.
+    std::uint32_t next = 0;
+    for (std::size_t t = 0; t < tiles; ++t) {
+        const std::uint32_t count = out.tileLightCount[t], countFar = halfZ ? out.tileLightCountFar[t] : 0u;
+        std::uint32_t start = 0;
+        if (count + countFar != 0) {
+            start = next;
+            next += count + countFar;
         }
-        poolCounter.reset(next);
-        out.lightIndices.resize(next);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 64), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t t = r.begin(); t < r.end(); ++t) {
-                const std::uint32_t* slice = staging.data() + stageStart[t];
-                const std::uint32_t count = out.tileLightCount[t];
-                std::copy(slice, slice + count, out.lightIndices.begin() + out.tileOffset[t]);
-                if (halfZ && out.tileLightCountFar[t] != 0)
-                    std::copy(slice + count, slice + count + out.tileLightCountFar[t], out.lightIndices.begin() + out.tileOffsetFar[t]);
-            }
-        });
+        if (halfZ) out.tileOffsetFar[t] = countFar != 0 ? start + count : 0u;
+        out.tileOffset[t] = count == 0 ? 0u : start;
     }
-    out.lightIndices.resize(poolCounter.value());
+    out.lightIndices.resize(next);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t t = r.begin(); t < r.end(); ++t) {
+            const std::uint32_t* slice = staging.data() + stageStart[t];
+            const std::uint32_t count = out.tileLightCount[t];
+            std::copy(slice, slice + count, out.lightIndices.begin() + out.tileOffset[t]);
+            if (halfZ && out.tileLightCountFar[t] != 0)
+                std::copy(slice + count, slice + count + out.tileLightCountFar[t], out.lightIndices.begin() + out.tileOffsetFar[t]);
+        }
+    });
     for (std::size_t t = 0; t < tiles; ++t) {
         if (out.tileFoundCount[t] > kAmdLightCapacity) {
             ++out.overflowTiles;
@@ -367,6 +329,35 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
         }
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+                                            const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes) {
+    if (depth.width == 0 || depth.height == 0 || depth.depth.size() < std::size_t{depth.width} * depth.height)
+        throw std::invalid_argument("cullTilesAmd: the depth buffer is empty or smaller than width x height");
+    const glm::uvec2 windowPx(depth.width, depth.height);
+    // The binning depends on the lights, the projection and the tile corners only: one per
+    // corner convention, shared by the passes that use it.
+    std::array<std::optional<AmdLightBins>, 2> binsByCorners;
+    std::vector<AmdTileLightLists> out;
+    for (const AmdCullingOptions& options : passes) {
+        const AmdLightBins* bins = nullptr;
+        if (options.lightLoop == AmdLightLoop::Binned) {
+            std::optional<AmdLightBins>& slot = binsByCorners[options.corners == AmdTileCorners::Screen ? 0 : 1];
+            if (!slot)
+                slot = binLightsAmd(lightsViewLh, tileCount(windowPx, kAmdTileSizePx), windowPx, inverseProjection, options.corners);
+            bins = &*slot;
+        }
+        out.push_back(cullPass(depth, lightsViewLh, inverseProjection, options, bins));
+    }
+    return out;
+}
+
+AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+                               const glm::mat4& inverseProjection, const AmdCullingOptions& options) {
+    return std::move(cullTilesAmd(depth, lightsViewLh, inverseProjection, std::span<const AmdCullingOptions>(&options, 1)).front());
 }
 
 }  // namespace tessera

@@ -125,10 +125,9 @@ struct ComputeFrustumsKernel {
 // (tile_binning.h): binary search with a padded sphere test against the column and row planes,
 // or, for a sphere reaching the eye's plane, every column and row tested. Before that case was
 // added, such lights could lose tiles the kernel keeps, in the transparent lists (16384 small
-// Sponza lights: mean 106.86 instead of brute's 108.91). A spot light is bounded by the sphere
-// around its cone (tip and base disc), which contains both points the article's
-// ConeInsidePlane tests (T, and Q in the base disc since m is perpendicular to d and |m| <= 1).
-// Non-finite values never exclude.
+// Sponza lights: mean 106.86 instead of brute's 108.91). A spot light is bounded by
+// coneBoundingSphere, which contains both points ConeInsidePlane tests. Non-finite values never
+// exclude.
 using LightTileRect = binning::TileRuns;
 
 struct BinnedLight {
@@ -139,8 +138,23 @@ struct BinnedLight {
 struct BoundingSphere {
     glm::dvec3 c{0.0};
     double r = 0.0;
-    double pad = 0.0;
+    double pad = 0.0;  // binning::padFor(c, r)
 };
+
+// The sphere around a cone's tip and base disc, in double: centre T + d h / 2, radius
+// sqrt((h |d| / 2)^2 + (r |m|max)^2), where |m|max bounds the offset of ConeInsidePlane's Q from
+// the base centre in units of r: |cross(cross(N, d), d)| <= |d|^2 for a unit N (the faithful
+// test), 1 for the corrected one; 1e-6 more covers N's rounding. It holds T and both tests' Q.
+BoundingSphere coneBoundingSphere(const Cone& cone) {
+    const glm::dvec3 T(cone.T), d(cone.d);
+    const double h = double(cone.h), dLength = glm::length(d);
+    BoundingSphere s;
+    s.c = T + d * (h * 0.5);
+    const double mReach = double(std::abs(cone.r)) * std::max(1.0, dLength * dLength) * (1.0 + 1e-6);
+    s.r = std::sqrt(0.25 * h * h * dLength * dLength + mReach * mReach);
+    s.pad = binning::padFor(s.c, s.r);
+    return s;
+}
 
 // The padded "sphere wholly in the negative half-space" (plane.h sphereInsidePlane), in double.
 bool paddedInside(const BoundingSphere& s, const Plane& plane) {
@@ -148,24 +162,12 @@ bool paddedInside(const BoundingSphere& s, const Plane& plane) {
     return distance < -(s.r + s.pad);
 }
 
-LightTileRect lightTileRect(const ViewLight<float>& light, const std::vector<Frustum>& frustums, glm::uvec2 tiles,
-                            float nearClipVS) {
+// The binning of a point light (bound: its sphere) or a spot light (bound: coneBoundingSphere).
+LightTileRect lightTileRect(const ViewLight<float>& light, const BoundingSphere& s, const std::vector<Frustum>& frustums,
+                            glm::uvec2 tiles, float nearClipVS) {
     LightTileRect rect;
     if (!light.enabled) return rect;
     if (light.type == LightType::Directional) return LightTileRect::all(tiles);
-    BoundingSphere s;
-    const glm::dvec3 position(light.positionView.x, light.positionView.y, light.positionView.z);
-    if (light.type == LightType::Point) {
-        s.c = position;
-        s.r = double(light.range);
-    } else {
-        const double h = double(light.range);
-        const double baseRadius = double(detTan(hlsl::radians(light.spotlightAngleDeg))) * h;  // as CS_main's coneRadius
-        const glm::dvec3 d(light.directionView.x, light.directionView.y, light.directionView.z);
-        s.c = position + d * (h * 0.5);
-        s.r = std::sqrt(h * h * 0.25 + baseRadius * baseRadius) * std::max(1.0, glm::length(d));
-    }
-    s.pad = binning::padFor(s.c, s.r);
     if (s.c.z - s.r > double(nearClipVS) + s.pad) return rect;  // wholly behind the near clip plane
     const auto plane = [&](std::uint32_t tx, std::uint32_t ty, int i) -> const Plane& {
         return frustums[tx + std::size_t{ty} * tiles.x].planes[std::size_t(i)];
@@ -400,7 +402,7 @@ struct SpotCullTerms {
     float boundReach = std::numeric_limits<float>::quiet_NaN();  // radius + pad; NaN: always exact
 };
 
-SpotCullTerms spotCullTerms(const Cone& cone, bool corrected, float nearClipVS) {
+SpotCullTerms spotCullTerms(const Cone& cone, const BoundingSphere& bound, bool corrected, float nearClipVS) {
     const auto testPoint = [&](const glm::vec3& N) {
         return corrected ? coneTestPointCorrected(cone, N) : coneTestPoint(cone, N);
     };
@@ -412,14 +414,9 @@ SpotCullTerms spotCullTerms(const Cone& cone, bool corrected, float nearClipVS) 
     t.dotQFar = cullmath::dot(farN, testPoint(farN));
     t.dotTMin = cullmath::dot(minN, cone.T);
     t.dotQMin = cullmath::dot(minN, testPoint(minN));
-    const glm::dvec3 T(cone.T), d(cone.d);
-    const double h = double(cone.h), dLength = glm::length(d);
-    const glm::dvec3 centre = T + d * (h * 0.5);
-    const double mReach = double(std::abs(cone.r)) * std::max(1.0, dLength * dLength) * (1.0 + 1e-6);
-    const double radius = std::sqrt(0.25 * h * h * dLength * dLength + mReach * mReach);
-    const double reach = radius + binning::padFor(centre, radius);
-    if (std::isfinite(reach) && std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z) && reach < 1e30) {
-        t.boundCentre = glm::vec3(centre);
+    const double reach = bound.r + bound.pad;
+    if (std::isfinite(reach) && std::isfinite(bound.c.x) && std::isfinite(bound.c.y) && std::isfinite(bound.c.z) && reach < 1e30) {
+        t.boundCentre = glm::vec3(bound.c);
         t.boundReach = static_cast<float>(reach);
     }
     return t;
@@ -529,17 +526,21 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lights.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i < r.end(); ++i) {
                 const ViewLight<float>& light = lights[i];
-                const LightTileRect rect = !light.enabled ? LightTileRect{}
-                                           : st.options.brute ? all
-                                                              : lightTileRect(light, frustums, tiles, nearClipVS);
-                sc.rects[i] = rect;
                 CullLight& c = sc.lights[i];
                 c.sphere = Sphere{glm::vec3(light.positionView), light.range};
                 c.direction = glm::vec3(light.directionView);
                 c.coneRadius = detTan(hlsl::radians(light.spotlightAngleDeg)) * light.range;
                 c.type = light.type;
-                if (light.type == LightType::Spot && !st.options.brute)
-                    c.spot = spotCullTerms(Cone{c.sphere.c, c.sphere.r, c.direction, c.coneRadius}, st.options.coneCorrected, nearClipVS);
+                LightTileRect rect = !light.enabled ? LightTileRect{} : all;
+                if (light.enabled && !st.options.brute) {
+                    const Cone cone{c.sphere.c, c.sphere.r, c.direction, c.coneRadius};
+                    BoundingSphere bound{glm::dvec3(c.sphere.c), double(c.sphere.r), 0.0};
+                    if (light.type == LightType::Spot) bound = coneBoundingSphere(cone);
+                    else bound.pad = binning::padFor(bound.c, bound.r);
+                    rect = lightTileRect(light, bound, frustums, tiles, nearClipVS);
+                    if (light.type == LightType::Spot) c.spot = spotCullTerms(cone, bound, st.options.coneCorrected, nearClipVS);
+                }
+                sc.rects[i] = rect;
                 c.x0 = rect.x0;
                 c.x1 = rect.x1;
                 c.x2 = rect.x2;

@@ -5,6 +5,7 @@
 #include <tessera/techniques/forward_plus_amd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -201,8 +202,10 @@ void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
     transparentOptions.range = AmdDepthRange::NearToMax;
     transparentOptions.lightLoop = st.options.lightLoop;
     device.execute([&] {
-        st.opaque = cullTilesAmd(depthView, st.spheresViewLh, st.inverseProjectionLh, opaqueOptions);
-        st.transparent = cullTilesAmd(depthView, st.spheresViewLh, st.inverseProjectionLh, transparentOptions);
+        const std::array<AmdCullingOptions, 2> passes{opaqueOptions, transparentOptions};
+        std::vector<AmdTileLightLists> lists = cullTilesAmd(depthView, st.spheresViewLh, st.inverseProjectionLh, passes);
+        st.opaque = std::move(lists[0]);
+        st.transparent = std::move(lists[1]);
     });
 
     storeLists(reg, st.opaque, "opaque", st.options.halfZ);

@@ -345,3 +345,23 @@ TEST_CASE("cullTilesAmd half-Z: a tile whose near list is empty keeps offset 0 a
         CHECK(lists.lightIndices.size() == before + 1u);
     }
 }
+
+TEST_CASE("cullTilesAmd over several passes: each result equals its own call (shared binning)") {
+    const TestScene s = makeScene(false, 31, 800);
+    std::vector<AmdCullingOptions> passes(5);
+    passes[0].depthCulling = AmdDepthCulling::DepthMask25D;
+    passes[0].halfZ = true;
+    passes[1].range = AmdDepthRange::NearToMax;
+    passes[2].corners = AmdTileCorners::PaddedGrid;
+    passes[3].lightLoop = AmdLightLoop::AllLights;
+    passes[4].corners = AmdTileCorners::PaddedGrid;
+    passes[4].order = compute::GroupOrder::Serial;
+    const std::vector<AmdTileLightLists> together = cullTilesAmd(view(s), s.lights, s.inverseProjection, passes);
+    REQUIRE(together.size() == passes.size());
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+        CAPTURE(i);
+        CHECK(sameLists(together[i], cullTilesAmd(view(s), s.lights, s.inverseProjection, passes[i])));
+        CHECK(!together[i].lightIndices.empty());
+    }
+    CHECK(cullTilesAmd(view(s), s.lights, s.inverseProjection, std::span<const AmdCullingOptions>{}).empty());
+}

@@ -63,7 +63,7 @@ struct AmdCullingOptions {
     // tile reserves countA + countB pool entries, A first. With 2.5D the mask test applies too.
     bool halfZ = false;
     AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (seed 002's reading)
-    compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (OrderedCounter)
+    compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (offsets in row-major order)
     AmdLightLoop lightLoop = AmdLightLoop::Binned;              // same bytes as AllLights
 };
 
@@ -109,15 +109,23 @@ struct AmdTileLightLists {
 //      on the shared counter, store if the slot is < 256; barrier
 //   5. thread 0: count = min(counter, 256) (the clamp seed 002 §2.5 (c) requires: the printed
 //      write-back copies `counter` entries and reads past the shared list above 256); if
-//      count != 0 reserve `count` entries of the global pool (InterlockedAdd in row-major group
-//      order, compute::OrderedCounter); ptLowerBound[t] = start; barrier
+//      count != 0 reserve `count` entries of the global pool (InterlockedAdd, taken in row-major
+//      group order: compute/dispatch.h order rule 3); ptLowerBound[t] = start; barrier
 //   6. the 64 threads copy the shared list into the pool (for i = lIdx; i < count; i += 64).
-//   (Binned loop: steps 5-6 copy into a per-tile staging slice instead, and the reservations are
-//   made after the dispatch in the same row-major order: the same offsets and pool.)
+//   tessera runs steps 5-6 as: each group copies its lists into a staging slice of its own, and
+//   the reservations are made after the dispatch in row-major order, so groups never wait for
+//   each other: the same offsets and pool at any thread count.
 // lightsViewLh: per light (centre x, y, z in AMD's left-handed view space, radius) — the kernel's
 // `mul(float4(center.xyz, 1), g_mView)` done once by the caller. inverseProjection: glm matrix of
 // the D3D projection's inverse (clipToView). Throws std::invalid_argument for an empty screen.
 AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
                                const glm::mat4& inverseProjection, const AmdCullingOptions& options = {});
+
+// Several passes over the same depth buffer and lights (forward-plus-amd: the opaque lists, then
+// the [near, maxZ] lists for blended geometry), one result per pass, each equal to its own
+// cullTilesAmd call. The light binning depends only on the lights, the projection and the tile
+// corners, so binned passes with the same corners share one.
+std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+                                            const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes);
 
 }  // namespace tessera
