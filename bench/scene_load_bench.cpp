@@ -10,7 +10,7 @@
 #include <tbb/global_control.h>
 
 #include <tessera/scene/scene_file.h>
-#include <tessera/techniques/scene_resources.h>
+#include <tessera/scene/scene_resources.h>
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/technique.h>
 
-#include "builtin_scene.h"
+#include <tessera/techniques/builtin_scene.h>
 #include "progress.h"
 
 namespace {
@@ -222,14 +222,14 @@ void printDrawStats(const tessera::DrawStats& s) {
 }
 
 int renderBuiltin(const RenderOptions& o) {
-    tessera::cli::BuiltinSceneOptions opt;
+    tessera::BuiltinSceneOptions opt;
     opt.width = o.width ? o.width : opt.width;
     opt.height = o.height ? o.height : opt.height;
     opt.sampleCount = o.msaa;
     tessera::Device device(o.device);
     tessera::DrawStats drawStats;
     tessera::BufferRegistry registry;
-    const tessera::Frame frame = tessera::cli::buildBuiltinScene(device, opt, drawStats);
+    const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     const auto timings = frame.run(registry);
     writeOutputs(registry, o);
     if (o.stats) {

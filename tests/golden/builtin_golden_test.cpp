@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "builtin_scene.h"
+#include <tessera/techniques/builtin_scene.h>
 #include "support/golden_check.h"
 
 using namespace tessera;
@@ -17,9 +17,9 @@ Surface renderBuiltin(std::uint32_t threads, std::uint32_t samples) {
     Device device(DeviceConfig{64, threads});
     DrawStats stats;
     BufferRegistry registry;
-    cli::BuiltinSceneOptions opt;
+    BuiltinSceneOptions opt;
     opt.sampleCount = samples;
-    cli::buildBuiltinScene(device, opt, stats).run(registry);
+    buildBuiltinScene(device, opt, stats).run(registry);
     return registry.get("backbuffer");
 }
 

@@ -80,50 +80,16 @@ private:
     std::unique_ptr<SceneResources> resources_;
 };
 
-// The names of the bundled scenes (scenes/*.json), sorted.
-inline std::vector<std::string> bundledSceneNames() {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(TESSERA_SOURCE_DIR) / "scenes"))
-        if (entry.path().extension() == ".json" && entry.path().filename() != "scene.schema.json")
-            names.push_back(entry.path().stem().string());
-    std::sort(names.begin(), names.end());
-    return names;
-}
+// The names of the bundled scenes (scenes/*.json), sorted. Fails the calling test unless the
+// three scenes the README lists are among them, so a loop over the names cannot pass by running
+// over nothing (a moved scenes/ folder, a wrong TESSERA_SOURCE_DIR).
+std::vector<std::string> bundledSceneNames();
 
 // The opaque pass's shading points: (posView, SV_Position.z) per pixel, w = -1 where no opaque
 // geometry; the same draws and states as forward's OpaquePass (forward.h), with a pixel shader
-// that writes the interpolated view position.
-struct ShadingPointPS {
-    using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 1;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
-        out.target[0] = glm::vec4(in.varyings.posView, in.posWindow.z);
-    }
-};
-
-inline Surface opaqueShadingPoints(const SceneResources& res, const ForwardPassSetup& setup, Device& device,
-                                   std::uint32_t width, std::uint32_t height) {
-    Surface position({width, height, Format::R32G32B32A32_FLOAT, 1});
-    position.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
-    Surface depth({width, height, Format::D24_UNORM_S8_UINT, 1});
-    depth.clearDepthStencil(true, 1.0f, true, 0);
-    RenderTargets rt;
-    rt.colors[0] = &position;
-    rt.depthStencil = &depth;
-    for (const DrawItem& item : res.drawItems()) {
-        const PhongMaterial material = phongFromGltf(res.material(item.material));
-        if (material.isTransparent()) continue;
-        DrawState st;
-        st.viewport = Viewport{0.0f, 0.0f, float(width), float(height), 0.0f, 1.0f};
-        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-        const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
-        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
-        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ShadingPointPS{});
-    }
-    return position;
-}
+// that writes the interpolated view position (bundled_scene.cpp: instantiated once).
+Surface opaqueShadingPoints(const SceneResources& res, const ForwardPassSetup& setup, Device& device,
+                            std::uint32_t width, std::uint32_t height);
 
 // Renders `technique` at 1 and 2 threads, checks that the back buffers hold the same bytes, and
 // compares the image with golden/<scene>/<goldenName>.png (goldenName defaults to the technique).

@@ -1,7 +1,8 @@
 // Exact golden-image comparison shared by the golden tests: writes the actual image into the
 // build's golden-out/ folder, compares its stored bytes with golden/<group>/<name>.png, and on
 // a mismatch writes <name>.expected.png and <name>.diff.png (|a-e| x 16) beside it and reports
-// the worst pixel. A missing golden fails. TESSERA_UPDATE_GOLDEN=1 copies actual over golden.
+// the worst pixel. A missing golden fails. TESSERA_UPDATE_GOLDEN=1 copies actual over golden,
+// except under CI (CI set), where it fails: CI compares, it never rewrites.
 #pragma once
 
 #include <doctest/doctest.h>
@@ -24,6 +25,9 @@ inline void checkGolden(const Surface& actual, const std::string& group, const s
     const std::string actualPath = (outDir / (name + ".actual.png")).string();
     writeSurface(actual, actualPath);
     if (const char* update = std::getenv("TESSERA_UPDATE_GOLDEN"); update && std::string(update) == "1") {
+        const char* ci = std::getenv("CI");
+        REQUIRE_MESSAGE((ci == nullptr || std::string(ci).empty() || std::string(ci) == "false"),
+                        "TESSERA_UPDATE_GOLDEN=1 under CI: goldens are compared in CI, never rewritten");
         std::filesystem::create_directories(golden.parent_path());
         std::filesystem::copy_file(actualPath, golden, std::filesystem::copy_options::overwrite_existing);
         MESSAGE("updated " << golden.string());

@@ -52,3 +52,10 @@ inline DrawState countingState(const Surface& target) {
 }
 
 } // namespace tessera::test
+
+// The pass-through draw most raster tests use, instantiated once in test_draw.cpp (the rasteriser's
+// templates are the costliest code to compile; each test file that draws would repeat them).
+extern template tessera::DrawStats tessera::Device::draw<tessera::test::ColorVertex, tessera::test::PassThroughVS,
+                                                         tessera::test::ColorPS>(
+    const DrawState&, const RenderTargets&, std::span<const tessera::test::ColorVertex>, std::span<const std::uint32_t>,
+    const tessera::test::PassThroughVS&, const tessera::test::ColorPS&, OcclusionQuery*);

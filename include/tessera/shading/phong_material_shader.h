@@ -18,7 +18,7 @@
 #include <tessera/scene/scene.h>
 #include <tessera/shaders/shader_stages.h>
 #include <tessera/shading/phong_lighting.h>
-#include <tessera/techniques/scene_resources.h>
+#include <tessera/scene/scene_resources.h>
 #include <tessera/texture/texture2d.h>
 
 namespace tessera {

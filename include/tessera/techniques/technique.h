@@ -14,7 +14,7 @@
 #include <tessera/frame/frame.h>
 #include <tessera/raster/device.h>
 #include <tessera/scene/precision.h>
-#include <tessera/techniques/scene_resources.h>
+#include <tessera/scene/scene_resources.h>
 
 namespace tessera {
 

@@ -1,4 +1,4 @@
-// The built-in scene `tessera render` draws until the glTF scene loader lands: a lit ground
+// The built-in scene (`tessera render builtin`): a generated lit ground
 // plane and cubes (opaque pass) and an alpha-blended pane (transparent pass), as a Frame.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <tessera/frame/frame.h>
 #include <tessera/raster/device.h>
 
-namespace tessera::cli {
+namespace tessera {
 
 struct BuiltinSceneOptions {
     std::uint32_t width = 640, height = 360;
@@ -18,4 +18,4 @@ struct BuiltinSceneOptions {
 // MSAA), "depth" (D24S8), and with MSAA "backbuffer.msaa".
 Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& options, DrawStats& stats);
 
-} // namespace tessera::cli
+} // namespace tessera

@@ -1,7 +1,7 @@
 // Built-in scene: view-space Lambert + ambient shading of a ground plane and three cubes
 // under one directional light, then a translucent pane blended with SRC_ALPHA/INV_SRC_ALPHA.
 // Geometry is generated here; the camera is a D3D-style left-handed perspective (z in 0..1).
-#include "builtin_scene.h"
+#include <tessera/techniques/builtin_scene.h>
 
 #include <array>
 #include <utility>
@@ -9,7 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-namespace tessera::cli {
+namespace tessera {
 namespace {
 
 struct SceneVertex {
@@ -117,4 +117,4 @@ Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& o, DrawStats&
     return frame;
 }
 
-} // namespace tessera::cli
+} // namespace tessera
