@@ -1,6 +1,8 @@
 // Determinism of the compute-shader emulation: GroupOrder::Parallel kernels (order-independent
 // by contract) and ordered appends give byte-identical outputs under 1, 2, 7 and 16 oneTBB threads
-// (tbb::global_control) and equal the GroupOrder::Serial result.
+// and equal the GroupOrder::Serial result. Each count runs in a task_arena of that many slots with
+// the process-wide worker limit raised to match (global_control alone only lowers the limit, so on
+// a 2-core machine 7 and 16 would silently mean 2); the test asserts the concurrency dispatch sees.
 #include <tessera/compute/dispatch.h>
 #include <tessera/compute/interlocked.h>
 #include <tessera/compute/ordered_counter.h>
@@ -9,6 +11,7 @@
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <cstdint>
 #include <cstring>
@@ -171,15 +174,20 @@ TEST_CASE("compute determinism: Parallel dispatches are identical at 1, 2, 7 and
         CAPTURE(threads);
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                   static_cast<std::size_t>(threads));
-        for (int repeat = 0; repeat < 3; ++repeat) {
-            const Outputs parallel = runAll(tc::GroupOrder::Parallel);
-            CHECK(sameBytes(parallel.bins, serial.bins));
-            CHECK(sameBytes(parallel.extremes, serial.extremes));
-            CHECK(sameBytes(parallel.bits, serial.bits));
-            CHECK(sameBytes(parallel.means, serial.means));
-            CHECK(sameBytes(parallel.list, serial.list));
-            CHECK(sameBytes(parallel.ranges, serial.ranges));
-            CHECK(parallel.counterValue == serial.counterValue);
-        }
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            // dispatch partitions its groups over this many workers (compute/dispatch.cpp).
+            REQUIRE(tbb::this_task_arena::max_concurrency() == threads);
+            for (int repeat = 0; repeat < 3; ++repeat) {
+                const Outputs parallel = runAll(tc::GroupOrder::Parallel);
+                CHECK(sameBytes(parallel.bins, serial.bins));
+                CHECK(sameBytes(parallel.extremes, serial.extremes));
+                CHECK(sameBytes(parallel.bits, serial.bits));
+                CHECK(sameBytes(parallel.means, serial.means));
+                CHECK(sameBytes(parallel.list, serial.list));
+                CHECK(sameBytes(parallel.ranges, serial.ranges));
+                CHECK(parallel.counterValue == serial.counterValue);
+            }
+        });
     }
 }

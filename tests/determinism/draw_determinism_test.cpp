@@ -38,6 +38,9 @@ Frame renderScene(std::uint32_t threads, std::uint32_t tileSize, std::uint32_t s
     f.color.clearColor(glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
     f.depth.clearDepthStencil(true, 1.0f, true, 0);
     Device dev(DeviceConfig{tileSize, threads});
+    // The device's arena really has `threads` slots (its global_control raises TBB's worker limit
+    // past the machine's cores), so 7 and 16 are not silently capped at the core count.
+    dev.execute([&] { REQUIRE(tbb::this_task_arena::max_concurrency() == int(threads)); });
     RenderTargets rt;
     rt.colors[0] = &f.color;
     rt.colors[1] = &f.extra;
@@ -82,6 +85,7 @@ TEST_CASE("every buffer is identical at 1, 2, 7 and 16 threads and at tile sizes
         CHECK(stencilSet > 1000);
         for (const std::uint32_t threads : {1u, 2u, 7u, 16u}) {
             for (const std::uint32_t tile : {16u, 64u}) {
+                if (threads == 1 && tile == 16) continue;  // the reference configuration itself
                 const Frame f = renderScene(threads, tile, samples);
                 INFO("samples " << samples << ", threads " << threads << ", tile " << tile);
                 CHECK(sameBytes(f.color, ref.color));
