@@ -25,6 +25,13 @@
 // * Depth. glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) + glDepthRange(0,1): clip volume
 //   0 <= z <= w and zWindow = zNdc, as in D3D with MinDepth=0, MaxDepth=1.
 //   DepthClipEnable=false -> GL_DEPTH_CLAMP (no near/far clipping, depth clamped to [0,1]).
+// * Scissor. D3D11_RECT (left, top, right, bottom) in D3D rows; GL memory row r == D3D row r, so
+//   glScissor(left, top, right - left, bottom - top) selects the same pixels.
+// * MSAA. llvmpipe supports 4 samples only, at lp_sample_pos_4x = (0.375, 0.125), (0.875, 0.375),
+//   (0.125, 0.625), (0.625, 0.875) from the pixel's corner at the lowest GL x and y. GL window y
+//   equals D3D window y here (rows above), so these are the D3D11 standard 4x offsets
+//   (-2,-6), (6,-2), (-6,2), (2,6) in 1/16 px from the centre (D3D11.3 §19.2.4), in the same order.
+//   Samples are read back one at a time with texelFetch from multisample textures.
 #include "gl_peer.h"
 
 #define GL_GLEXT_PROTOTYPES 1
@@ -34,6 +41,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -63,6 +71,63 @@ void main() { oColor = vColor; }
 )";
 
 constexpr int kFloatsPerVertex = 8;  // vec4 posClip, vec4 colour
+
+// Read-back of one sample of multisample textures: a full-screen triangle whose fragments copy
+// sample uSample of colour and depth (pass 1), or of stencil (pass 2, the depth-stencil texture
+// switched to GL_STENCIL_INDEX mode) into single-sample targets.
+constexpr const char* kResolveVertexShader = R"(#version 450 core
+void main() {
+    const vec2 p[3] = vec2[3](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
+    gl_Position = vec4(p[gl_VertexID], 0.0, 1.0);
+}
+)";
+constexpr const char* kResolveColorDepthShader = R"(#version 450 core
+layout(binding = 0) uniform sampler2DMS uColor;
+layout(binding = 1) uniform sampler2DMS uDepth;
+uniform int uSample;
+layout(location = 0) out vec4 oColor;
+layout(location = 1) out float oDepth;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    oColor = texelFetch(uColor, p, uSample);
+    oDepth = texelFetch(uDepth, p, uSample).r;
+}
+)";
+constexpr const char* kResolveStencilShader = R"(#version 450 core
+layout(binding = 2) uniform usampler2DMS uStencil;
+uniform int uSample;
+layout(location = 0) out uint oStencil;
+void main() { oStencil = texelFetch(uStencil, ivec2(gl_FragCoord.xy), uSample).r; }
+)";
+
+GLenum toGl(BlendFactor f) {
+    switch (f) {
+    case BlendFactor::Zero: return GL_ZERO;
+    case BlendFactor::One: return GL_ONE;
+    case BlendFactor::SrcColor: return GL_SRC_COLOR;
+    case BlendFactor::InvSrcColor: return GL_ONE_MINUS_SRC_COLOR;
+    case BlendFactor::SrcAlpha: return GL_SRC_ALPHA;
+    case BlendFactor::InvSrcAlpha: return GL_ONE_MINUS_SRC_ALPHA;
+    case BlendFactor::DestAlpha: return GL_DST_ALPHA;
+    case BlendFactor::InvDestAlpha: return GL_ONE_MINUS_DST_ALPHA;
+    case BlendFactor::DestColor: return GL_DST_COLOR;
+    case BlendFactor::InvDestColor: return GL_ONE_MINUS_DST_COLOR;
+    case BlendFactor::BlendFactor: return GL_CONSTANT_COLOR;        // D3D11_BLEND_BLEND_FACTOR
+    case BlendFactor::InvBlendFactor: return GL_ONE_MINUS_CONSTANT_COLOR;
+    }
+    return GL_ONE;
+}
+
+GLenum toGl(BlendOp op) {
+    switch (op) {
+    case BlendOp::Add: return GL_FUNC_ADD;
+    case BlendOp::Subtract: return GL_FUNC_SUBTRACT;                // src - dst, as D3D11_BLEND_OP_SUBTRACT
+    case BlendOp::RevSubtract: return GL_FUNC_REVERSE_SUBTRACT;
+    case BlendOp::Min: return GL_MIN;                               // factors ignored in both APIs
+    case BlendOp::Max: return GL_MAX;
+    }
+    return GL_FUNC_ADD;
+}
 
 GLenum toGl(Cmp c) {
     switch (c) {
@@ -143,6 +208,31 @@ GLuint compileShader(GLenum stage, const char* source, std::string* log) {
     return shader;
 }
 
+// Compiles and links a vertex + fragment program; returns 0 and fills *log on failure.
+GLuint linkProgram(const char* vertexSource, const char* fragmentSource, std::string* log) {
+    const GLuint vs = compileShader(GL_VERTEX_SHADER, vertexSource, log);
+    if (vs == 0) return 0;
+    const GLuint fs = compileShader(GL_FRAGMENT_SHADER, fragmentSource, log);
+    if (fs == 0) {
+        glDeleteShader(vs);
+        return 0;
+    }
+    const GLuint program = glCreateProgram();
+    glAttachShader(program, vs);
+    glAttachShader(program, fs);
+    glLinkProgram(program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint linked = GL_FALSE;
+    glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    if (linked != GL_TRUE) {
+        *log = "program link failed";
+        glDeleteProgram(program);
+        return 0;
+    }
+    return program;
+}
+
 // Live peers on the (process-wide) surfaceless display; the last one out terminates it so a
 // later create() re-initialises llvmpipe (and re-reads LP_NUM_THREADS).
 int gLivePeers = 0;
@@ -154,7 +244,12 @@ struct GlPeer::Impl {
     EGLContext ctx = EGL_NO_CONTEXT;
     std::string rendererName;
     GLuint program = 0, vao = 0, vbo = 0, fbo = 0, colorRb = 0, depthStencilRb = 0, query = 0;
-    int fbWidth = 0, fbHeight = 0;
+    int fbWidth = 0, fbHeight = 0, fbSamples = 0;
+    DepthFormat fbDepthFormat = DepthFormat::D32FS8;
+    // Multisample frames: textures instead of renderbuffers, and the per-sample read-back targets.
+    GLuint colorTex = 0, depthStencilTex = 0;
+    GLuint resolveColorDepthProgram = 0, resolveStencilProgram = 0, emptyVao = 0;
+    GLuint resolveFbo = 0, resolveStencilFbo = 0, resolveColorRb = 0, resolveDepthRb = 0, resolveStencilRb = 0;
     GLsizeiptr vboBytes = 0;
 
     void makeCurrent() const {
@@ -164,30 +259,128 @@ struct GlPeer::Impl {
         }
     }
 
-    void ensureFramebuffer(int width, int height) {
-        if (width <= 0 || height <= 0) throw std::invalid_argument("gl_peer: empty frame");
-        if (fbo != 0 && width == fbWidth && height == fbHeight) return;
-        if (fbo != 0) {
-            glDeleteFramebuffers(1, &fbo);
-            glDeleteRenderbuffers(1, &colorRb);
-            glDeleteRenderbuffers(1, &depthStencilRb);
+    void deleteFramebuffer() {
+        const GLuint rbs[] = {colorRb, depthStencilRb, resolveColorRb, resolveDepthRb, resolveStencilRb};
+        const GLuint fbos[] = {fbo, resolveFbo, resolveStencilFbo};
+        const GLuint texs[] = {colorTex, depthStencilTex};
+        glDeleteRenderbuffers(5, rbs);
+        glDeleteFramebuffers(3, fbos);
+        glDeleteTextures(2, texs);
+        colorRb = depthStencilRb = resolveColorRb = resolveDepthRb = resolveStencilRb = 0;
+        fbo = resolveFbo = resolveStencilFbo = colorTex = depthStencilTex = 0;
+    }
+
+    static void checkComplete(GLuint framebuffer, const char* what) {
+        const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) {
+            throw std::runtime_error(std::string("gl_peer: ") + what + " framebuffer incomplete (" + std::to_string(status) + ")");
         }
-        glCreateRenderbuffers(1, &colorRb);
-        glNamedRenderbufferStorage(colorRb, GL_RGBA8, width, height);
-        glCreateRenderbuffers(1, &depthStencilRb);
-        glNamedRenderbufferStorage(depthStencilRb, GL_DEPTH32F_STENCIL8, width, height);
+    }
+
+    void ensureFramebuffer(int width, int height, DepthFormat depthFormat, int samples) {
+        if (width <= 0 || height <= 0) throw std::invalid_argument("gl_peer: empty frame");
+        if (samples != 1 && samples != 4) throw std::invalid_argument("gl_peer: samples must be 1 or 4 (llvmpipe)");
+        if (fbo != 0 && width == fbWidth && height == fbHeight && depthFormat == fbDepthFormat && samples == fbSamples) return;
+        if (fbo != 0) deleteFramebuffer();
+        const GLenum dsFormat = depthFormat == DepthFormat::D24S8 ? GL_DEPTH24_STENCIL8 : GL_DEPTH32F_STENCIL8;
         glCreateFramebuffers(1, &fbo);
-        glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colorRb);
-        glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depthStencilRb);
+        if (samples == 1) {
+            glCreateRenderbuffers(1, &colorRb);
+            glNamedRenderbufferStorage(colorRb, GL_RGBA8, width, height);
+            glCreateRenderbuffers(1, &depthStencilRb);
+            glNamedRenderbufferStorage(depthStencilRb, dsFormat, width, height);
+            glNamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colorRb);
+            glNamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depthStencilRb);
+        } else {
+            // Fixed sample locations: the standard pattern in every pixel.
+            glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &colorTex);
+            glTextureStorage2DMultisample(colorTex, samples, GL_RGBA8, width, height, GL_TRUE);
+            glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &depthStencilTex);
+            glTextureStorage2DMultisample(depthStencilTex, samples, dsFormat, width, height, GL_TRUE);
+            glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, colorTex, 0);
+            glNamedFramebufferTexture(fbo, GL_DEPTH_STENCIL_ATTACHMENT, depthStencilTex, 0);
+            // Single-sample read-back targets: RGBA8 + R32F (pass 1), R32UI (pass 2).
+            glCreateRenderbuffers(1, &resolveColorRb);
+            glNamedRenderbufferStorage(resolveColorRb, GL_RGBA8, width, height);
+            glCreateRenderbuffers(1, &resolveDepthRb);
+            glNamedRenderbufferStorage(resolveDepthRb, GL_R32F, width, height);
+            glCreateRenderbuffers(1, &resolveStencilRb);
+            glNamedRenderbufferStorage(resolveStencilRb, GL_R32UI, width, height);
+            glCreateFramebuffers(1, &resolveFbo);
+            glNamedFramebufferRenderbuffer(resolveFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveColorRb);
+            glNamedFramebufferRenderbuffer(resolveFbo, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, resolveDepthRb);
+            const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+            glNamedFramebufferDrawBuffers(resolveFbo, 2, both);
+            checkComplete(resolveFbo, "read-back");
+            glCreateFramebuffers(1, &resolveStencilFbo);
+            glNamedFramebufferRenderbuffer(resolveStencilFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolveStencilRb);
+            glNamedFramebufferDrawBuffer(resolveStencilFbo, GL_COLOR_ATTACHMENT0);
+            checkComplete(resolveStencilFbo, "stencil read-back");
+        }
         glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
         glNamedFramebufferReadBuffer(fbo, GL_COLOR_ATTACHMENT0);
-        const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
-        if (status != GL_FRAMEBUFFER_COMPLETE) {
-            throw std::runtime_error("gl_peer: framebuffer incomplete (" + std::to_string(status) + ")");
-        }
+        checkComplete(fbo, "render");
         fbWidth = width;
         fbHeight = height;
+        fbDepthFormat = depthFormat;
+        fbSamples = samples;
         throwOnGlError("ensureFramebuffer");
+    }
+
+    // Reads every sample of the multisample targets into img (layout in gl_peer.h).
+    void readSamples(PeerImage& img) {
+        const int w = img.width, h = img.height, n = img.samples;
+        const auto pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+        std::vector<std::uint8_t> rgba(pixels * 4);
+        std::vector<float> depth(pixels);
+        std::vector<std::uint32_t> stencil(pixels);
+        glViewport(0, 0, w, h);
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_DEPTH_TEST);
+        glDisable(GL_STENCIL_TEST);
+        glDisable(GL_BLEND);
+        glDisable(GL_CULL_FACE);
+        glDisable(GL_MULTISAMPLE);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glBindVertexArray(emptyVao);
+        glBindTextureUnit(0, colorTex);
+        glBindTextureUnit(1, depthStencilTex);
+        glBindTextureUnit(2, depthStencilTex);
+        for (int s = 0; s < n; ++s) {
+            glTextureParameteri(depthStencilTex, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+            glBindFramebuffer(GL_FRAMEBUFFER, resolveFbo);
+            glUseProgram(resolveColorDepthProgram);
+            glUniform1i(glGetUniformLocation(resolveColorDepthProgram, "uSample"), s);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, resolveFbo);
+            glReadBuffer(GL_COLOR_ATTACHMENT0);
+            glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+            glReadBuffer(GL_COLOR_ATTACHMENT1);
+            glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, depth.data());
+
+            glTextureParameteri(depthStencilTex, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
+            glBindFramebuffer(GL_FRAMEBUFFER, resolveStencilFbo);
+            glUseProgram(resolveStencilProgram);
+            glUniform1i(glGetUniformLocation(resolveStencilProgram, "uSample"), s);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, resolveStencilFbo);
+            glReadBuffer(GL_COLOR_ATTACHMENT0);
+            glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, stencil.data());
+            throwOnGlError("per-sample read-back");
+            for (std::size_t i = 0; i < pixels; ++i) {
+                const std::size_t o = i * std::size_t(n) + std::size_t(s);
+                std::copy(rgba.begin() + std::ptrdiff_t(i * 4), rgba.begin() + std::ptrdiff_t(i * 4 + 4),
+                          img.rgba8.begin() + std::ptrdiff_t(o * 4));
+                img.depth[o] = depth[i];
+                img.stencil[o] = static_cast<std::uint8_t>(stencil[i]);
+                if (fbDepthFormat == DepthFormat::D24S8) {
+                    // The sampler returns code / (2^24 - 1) rounded to float (within about one
+                    // float ulp, 2^-24 near 1): scaling back recovers the code within +-1.
+                    img.depthCode[o] = static_cast<std::uint32_t>(std::lround(double(depth[i]) * 16777215.0));
+                }
+            }
+        }
+        glTextureParameteri(depthStencilTex, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
     }
 
     // Interleaves every draw's vertices into the VBO (once per render/timeRender call).
@@ -263,14 +456,26 @@ struct GlPeer::Impl {
             glDisable(GL_STENCIL_TEST);
         }
 
-        const GLboolean write = d.colorWrite ? GL_TRUE : GL_FALSE;
-        glColorMask(write, write, write, write);
+        const auto bit = [&](int b) -> GLboolean { return d.colorWrite && (d.colorWriteMask & b) != 0 ? GL_TRUE : GL_FALSE; };
+        glColorMask(bit(1), bit(2), bit(4), bit(8));
         if (d.additiveBlend) {
             glEnable(GL_BLEND);
             glBlendEquation(GL_FUNC_ADD);
             glBlendFunc(GL_ONE, GL_ONE);
+        } else if (d.blend.enable) {
+            glEnable(GL_BLEND);
+            glBlendEquationSeparate(toGl(d.blend.op), toGl(d.blend.opAlpha));
+            glBlendFuncSeparate(toGl(d.blend.src), toGl(d.blend.dst), toGl(d.blend.srcAlpha), toGl(d.blend.dstAlpha));
+            glBlendColor(d.blendFactor[0], d.blendFactor[1], d.blendFactor[2], d.blendFactor[3]);
         } else {
             glDisable(GL_BLEND);
+        }
+        if (d.scissorEnable) {
+            // D3D rows == GL memory rows (top of file): no flip.
+            glEnable(GL_SCISSOR_TEST);
+            glScissor(d.scissor[0], d.scissor[1], std::max(0, d.scissor[2] - d.scissor[0]), std::max(0, d.scissor[3] - d.scissor[1]));
+        } else {
+            glDisable(GL_SCISSOR_TEST);
         }
     }
 
@@ -281,6 +486,8 @@ struct GlPeer::Impl {
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthMask(GL_TRUE);
         glStencilMask(0xFF);
+        glDisable(GL_SCISSOR_TEST);   // clears obey the scissor too
+        if (frame.samples > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
         glClearColor(frame.clearColor[0], frame.clearColor[1], frame.clearColor[2], frame.clearColor[3]);
         glClearDepth(static_cast<double>(frame.clearDepth));
         glClearStencil(frame.clearStencil);
@@ -302,9 +509,10 @@ struct GlPeer::Impl {
         if (ctx != EGL_NO_CONTEXT) {
             if (eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx) == EGL_TRUE) {
                 glDeleteQueries(1, &query);
-                glDeleteFramebuffers(1, &fbo);
-                glDeleteRenderbuffers(1, &colorRb);
-                glDeleteRenderbuffers(1, &depthStencilRb);
+                deleteFramebuffer();
+                glDeleteProgram(resolveColorDepthProgram);
+                glDeleteProgram(resolveStencilProgram);
+                glDeleteVertexArrays(1, &emptyVao);
                 glDeleteBuffers(1, &vbo);
                 glDeleteVertexArrays(1, &vao);
                 glDeleteProgram(program);
@@ -380,22 +588,13 @@ std::optional<GlPeer> GlPeer::create(std::string* why) {
     im.rendererName = rendererStr != nullptr ? rendererStr : "";
 
     std::string log;
-    const GLuint vs = compileShader(GL_VERTEX_SHADER, kVertexShader, &log);
-    if (vs == 0) return fail(log);
-    const GLuint fs = compileShader(GL_FRAGMENT_SHADER, kFragmentShader, &log);
-    if (fs == 0) {
-        glDeleteShader(vs);
-        return fail(log);
-    }
-    im.program = glCreateProgram();
-    glAttachShader(im.program, vs);
-    glAttachShader(im.program, fs);
-    glLinkProgram(im.program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint linked = GL_FALSE;
-    glGetProgramiv(im.program, GL_LINK_STATUS, &linked);
-    if (linked != GL_TRUE) return fail("program link failed");
+    im.program = linkProgram(kVertexShader, kFragmentShader, &log);
+    if (im.program == 0) return fail(log);
+    im.resolveColorDepthProgram = linkProgram(kResolveVertexShader, kResolveColorDepthShader, &log);
+    if (im.resolveColorDepthProgram == 0) return fail(log);
+    im.resolveStencilProgram = linkProgram(kResolveVertexShader, kResolveStencilShader, &log);
+    if (im.resolveStencilProgram == 0) return fail(log);
+    glCreateVertexArrays(1, &im.emptyVao);
 
     glCreateBuffers(1, &im.vbo);
     glCreateVertexArrays(1, &im.vao);
@@ -409,7 +608,8 @@ std::optional<GlPeer> GlPeer::create(std::string* why) {
     glVertexArrayAttribBinding(im.vao, 1, 0);
     glCreateQueries(GL_SAMPLES_PASSED, 1, &im.query);
 
-    // Frame-independent state: D3D clip volume and depth range, no dithering, no multisample.
+    // Frame-independent state: D3D clip volume and depth range, no dithering (multisampling and
+    // the scissor are set per frame and per draw).
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthRange(0.0, 1.0);
     glDisable(GL_DITHER);
@@ -427,7 +627,7 @@ std::string GlPeer::renderer() const { return mImpl != nullptr ? mImpl->renderer
 PeerImage GlPeer::render(const PeerFrame& frame) {
     Impl& im = *mImpl;
     im.makeCurrent();
-    im.ensureFramebuffer(frame.width, frame.height);
+    im.ensureFramebuffer(frame.width, frame.height, frame.depthFormat, frame.samples);
     const std::vector<GLint> firstVertex = im.upload(frame);
 
     im.clear(frame);
@@ -439,18 +639,41 @@ PeerImage GlPeer::render(const PeerFrame& frame) {
     PeerImage img;
     img.width = frame.width;
     img.height = frame.height;
+    img.samples = frame.samples;
     const auto pixels = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
-    img.rgba8.resize(pixels * 4);
-    img.depth.resize(pixels);
-    img.stencil.resize(pixels);
+    const std::size_t count = pixels * static_cast<std::size_t>(frame.samples);
+    const bool d24 = frame.depthFormat == DepthFormat::D24S8;
+    img.rgba8.resize(count * 4);
+    img.depth.resize(count);
+    img.stencil.resize(count);
+    if (d24) img.depthCode.resize(count);
     GLuint64 samples = 0;
     glGetQueryObjectui64v(im.query, GL_QUERY_RESULT, &samples);
     img.samplesPassed = samples;
+    if (frame.samples > 1) {
+        img.depthCodeExact = !d24;
+        im.readSamples(img);
+        throwOnGlError("read-back");
+        return img;
+    }
     // GL memory row r == D3D row r (see top of file): read without flipping.
     glBindFramebuffer(GL_READ_FRAMEBUFFER, im.fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, frame.width, frame.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba8.data());
-    glReadPixels(0, 0, frame.width, frame.height, GL_DEPTH_COMPONENT, GL_FLOAT, img.depth.data());
+    if (d24) {
+        // GL_UNSIGNED_INT depth is the 24-bit code c rescaled to 32-bit unorm,
+        // round(c * (2^32 - 1) / (2^24 - 1)) = c * 256 + c / 65793 (Mesa replicates the top bits):
+        // either way the top 24 bits are c exactly, since c / 65793 < 256.
+        std::vector<GLuint> z32(pixels);
+        glReadPixels(0, 0, frame.width, frame.height, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, z32.data());
+        for (std::size_t i = 0; i < pixels; ++i) {
+            img.depthCode[i] = z32[i] >> 8;
+            img.depth[i] = static_cast<float>(double(img.depthCode[i]) / 16777215.0);
+        }
+    } else {
+        glReadPixels(0, 0, frame.width, frame.height, GL_DEPTH_COMPONENT, GL_FLOAT, img.depth.data());
+    }
     glReadPixels(0, 0, frame.width, frame.height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, img.stencil.data());
     throwOnGlError("read-back");
     return img;
@@ -459,7 +682,7 @@ PeerImage GlPeer::render(const PeerFrame& frame) {
 double GlPeer::timeRender(const PeerFrame& frame, int repeats) {
     Impl& im = *mImpl;
     im.makeCurrent();
-    im.ensureFramebuffer(frame.width, frame.height);
+    im.ensureFramebuffer(frame.width, frame.height, frame.depthFormat, frame.samples);
     const std::vector<GLint> firstVertex = im.upload(frame);
     const auto once = [&] {
         im.clear(frame);

@@ -15,6 +15,21 @@ namespace tessera::peer {
 enum class Cmp : std::uint8_t { Never, Less, Equal, LessEqual, Greater, NotEqual, GreaterEqual, Always };
 enum class StencilOp : std::uint8_t { Keep, Zero, Replace, IncrSat, DecrSat, Invert, Incr, Decr };
 enum class Cull : std::uint8_t { None, Front, Back };
+// D3D11_BLEND / D3D11_BLEND_OP subsets that GL expresses one to one (no dual source, no SRC_ALPHA_SAT).
+enum class BlendFactor : std::uint8_t {
+    Zero, One, SrcColor, InvSrcColor, SrcAlpha, InvSrcAlpha, DestAlpha, InvDestAlpha, DestColor, InvDestColor,
+    BlendFactor, InvBlendFactor
+};
+enum class BlendOp : std::uint8_t { Add, Subtract, RevSubtract, Min, Max };
+// The depth-stencil buffer: GL_DEPTH32F_STENCIL8 (D3D D32_FLOAT_S8X24_UINT) or GL_DEPTH24_STENCIL8
+// (D3D D24_UNORM_S8_UINT).
+enum class DepthFormat : std::uint8_t { D32FS8, D24S8 };
+
+struct PeerBlend {
+    bool enable = false;
+    BlendFactor src = BlendFactor::One, dst = BlendFactor::Zero, srcAlpha = BlendFactor::One, dstAlpha = BlendFactor::Zero;
+    BlendOp op = BlendOp::Add, opAlpha = BlendOp::Add;
+};
 
 struct StencilFace {
     StencilOp failOp = StencilOp::Keep, depthFailOp = StencilOp::Keep, passOp = StencilOp::Keep;
@@ -36,7 +51,12 @@ struct PeerDraw {
     std::uint8_t stencilReadMask = 0xFF, stencilWriteMask = 0xFF, stencilRef = 0;
     StencilFace front, back;
     bool colorWrite = true;
-    bool additiveBlend = false;                 // ONE + ONE, for counting coverage
+    bool additiveBlend = false;                 // ONE + ONE, for counting coverage (overrides `blend`)
+    PeerBlend blend;                            // used when additiveBlend is false
+    std::array<float, 4> blendFactor{1, 1, 1, 1};
+    std::uint8_t colorWriteMask = 0xF;          // D3D11_COLOR_WRITE_ENABLE bits (R=1, G=2, B=4, A=8), with colorWrite
+    bool scissorEnable = false;
+    std::array<int, 4> scissor{0, 0, 0, 0};     // D3D11_RECT left, top, right, bottom (px, D3D rows)
 };
 
 struct PeerFrame {
@@ -44,14 +64,19 @@ struct PeerFrame {
     std::array<float, 4> clearColor{0, 0, 0, 0};
     float clearDepth = 1.0f;
     std::uint8_t clearStencil = 0;
+    DepthFormat depthFormat = DepthFormat::D32FS8;
+    int samples = 1;                            // 1, or 4 (llvmpipe's only MSAA count: the D3D standard 4x pattern)
     std::vector<PeerDraw> draws;
 };
 
-// Read-back in D3D row order: row 0 is the top of the D3D image (index y*width + x).
+// Read-back in D3D row order: row 0 is the top of the D3D image. Sample s of pixel (x, y) is
+// element (y*width + x)*samples + s (with one sample: y*width + x).
 struct PeerImage {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> rgba8;   // 4 per pixel
-    std::vector<float> depth;          // D32F
+    int width = 0, height = 0, samples = 1;
+    std::vector<std::uint8_t> rgba8;   // 4 per sample
+    std::vector<float> depth;          // D32F: the stored float; D24S8: depthCode / (2^24 - 1)
+    std::vector<std::uint32_t> depthCode;  // D24S8 only: the stored 24-bit code (see depthCodeExact)
+    bool depthCodeExact = true;        // false for D24S8 with 4 samples: decoded from a float fetch (+-1 code)
     std::vector<std::uint8_t> stencil;
     std::uint64_t samplesPassed = 0;   // GL_SAMPLES_PASSED summed over all draws
 };

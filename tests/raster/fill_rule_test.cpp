@@ -1,6 +1,7 @@
 // Fill rule: seeded random meshes that share edges must cover every pixel inside exactly
-// once and none outside (D3D11 top-left rule). Coverage is counted with ONE+ONE blending
-// into an R32_FLOAT target (exact for counts below 2^24).
+// once and none outside (D3D11 top-left rule), and single edges placed on a pixel centre or a
+// fraction of a snapping step beside it must cover the hand-derived pixels (ties, rounding).
+// Coverage is counted with ONE+ONE blending into an R32_FLOAT target (exact below 2^24).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -162,4 +163,81 @@ TEST_CASE("fill rule: a mesh crossing the near plane stays watertight after clip
     CHECK(over == 0);
     CHECK(missing == 0);
     CHECK(leaked == 0);
+}
+
+namespace {
+
+// One probe: a thin triangle with one axis-aligned edge of the given kind placed `offset1024`
+// px/1024 from the centre (cx, cy) of pixel (px, py); the other two edges pass 3-4 px away.
+enum class EdgeKind { Left, Top, Right, Bottom };
+struct Probe {
+    EdgeKind kind;
+    int offset1024;   // edge position minus the pixel centre, in 1/1024 px (x for Left/Right, y for Top/Bottom)
+    float expected;   // hand-derived coverage of the probed pixel (derivation at the test case)
+    const char* what;
+};
+
+} // namespace
+
+TEST_CASE("fill rule: hand-derived coverage of edges on and beside pixel centres (ties and 16.8 rounding)") {
+    // Derivation. Window coordinates c + k/1024 px with c a pixel centre (n + 1/2) are exact in
+    // binary32 and through the 256x256 viewport (power-of-two scale). Snapping to 1/256 px
+    // rounds to nearest, ties to even (D3D11 "Data Conversion Rules": float -> fixed point is
+    // round-to-nearest-even; fixed_point.h): 256c = 256n + 128 is even, so
+    //   k = +3 -> +4 (the nearest step is 1/256 px past the centre)   floor would give 0
+    //   k = +2 -> 0  (a tie, to the even neighbour: the centre)        round-half-up gives +4
+    //   k = +1 -> 0                                                     ceil would give +4
+    //   k =  0 -> 0
+    // Top-left rule (D3D11.3 §15.? "Triangle Rasterization Rules"): a sample exactly on a left
+    // or top edge is covered, on a right or bottom edge it is not. So, for the probed pixel centre:
+    //   left edge at snapped x:   covered <=> x <= c        top edge:    covered <=> y <= c
+    //   right edge at snapped x:  covered <=> c <  x        bottom edge: covered <=> c <  y
+    // which gives the expected column below. A flipped top or left tie fails the k = 0 and
+    // k = +2 rows of that edge; floor snapping fails the k = +3 rows; ceil fails k = +1.
+    const Probe probes[] = {
+        {EdgeKind::Left, 0, 1.0f, "left edge on the centre (tie: covered)"},
+        {EdgeKind::Left, 3, 0.0f, "left edge 3/1024 px right (snaps 1/256 px right: not covered)"},
+        {EdgeKind::Left, 2, 1.0f, "left edge 2/1024 px right (a snapping tie, to even: on the centre)"},
+        {EdgeKind::Left, -1, 1.0f, "left edge 1/1024 px left (snaps onto the centre)"},
+        {EdgeKind::Top, 0, 1.0f, "top edge on the centre (tie: covered)"},
+        {EdgeKind::Top, 3, 0.0f, "top edge 3/1024 px below (snaps 1/256 px below: not covered)"},
+        {EdgeKind::Top, 2, 1.0f, "top edge 2/1024 px below (a snapping tie, to even: on the centre)"},
+        {EdgeKind::Right, 0, 0.0f, "right edge on the centre (tie: not covered)"},
+        {EdgeKind::Right, 1, 0.0f, "right edge 1/1024 px right (snaps onto the centre)"},
+        {EdgeKind::Right, 3, 1.0f, "right edge 3/1024 px right (snaps 1/256 px right: covered)"},
+        {EdgeKind::Bottom, 0, 0.0f, "bottom edge on the centre (tie: not covered)"},
+        {EdgeKind::Bottom, 1, 0.0f, "bottom edge 1/1024 px below (snaps onto the centre)"},
+        {EdgeKind::Bottom, 3, 1.0f, "bottom edge 3/1024 px below (snaps 1/256 px below: covered)"},
+    };
+    for (std::uint32_t tile : {8u, 64u}) {
+        Device dev(DeviceConfig{tile, 2});
+        Surface target(SurfaceDesc{kSize, kSize, Format::R32_FLOAT, 1});
+        Mesh m;
+        struct At { std::uint32_t x, y; };
+        std::vector<At> probed;
+        for (std::size_t i = 0; i < std::size(probes); ++i) {
+            // Probed pixel: on a 16 px lattice, so tile borders (8 and 64 px) pass beside it.
+            const std::uint32_t px = 8 + 16 * std::uint32_t(i % 15), py = 8 + 16 * std::uint32_t(i / 15) + (tile == 8 ? 0u : 7u);
+            const float cx = float(px) + 0.5f, cy = float(py) + 0.5f, e = float(probes[i].offset1024) / 1024.0f;
+            glm::vec2 v[3];  // clockwise in window space (y down)
+            switch (probes[i].kind) {
+            case EdgeKind::Left: v[0] = {cx + e, cy - 3}; v[1] = {cx + e + 4, cy}; v[2] = {cx + e, cy + 3}; break;
+            case EdgeKind::Top: v[0] = {cx - 3, cy + e}; v[1] = {cx + 3, cy + e}; v[2] = {cx, cy + e + 4}; break;
+            case EdgeKind::Right: v[0] = {cx + e - 4, cy}; v[1] = {cx + e, cy - 3}; v[2] = {cx + e, cy + 3}; break;
+            case EdgeKind::Bottom: v[0] = {cx, cy + e - 4}; v[1] = {cx + 3, cy + e}; v[2] = {cx - 3, cy + e}; break;
+            }
+            for (const glm::vec2& p : v) {
+                m.indices.push_back(std::uint32_t(m.vertices.size()));
+                m.vertices.push_back({windowToClip(p.x, p.y, kSizeF, kSizeF)});
+            }
+            probed.push_back({px, py});
+        }
+        drawCount(dev, target, m);
+        for (std::size_t i = 0; i < std::size(probes); ++i) {
+            const float got = target.load(probed[i].x, probed[i].y).x;
+            INFO("tile " << tile << " px, pixel (" << probed[i].x << "," << probed[i].y << "): " << probes[i].what << ": count " << got
+                         << ", expected " << probes[i].expected);
+            CHECK(got == probes[i].expected);
+        }
+    }
 }
