@@ -47,10 +47,11 @@ void drawItem(Device& device, const DrawState& state, const RenderTargets& targe
 glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention) {
     const float a = camera.aspect > 0.0f ? camera.aspect : aspect;
     const float n = camera.nearZ, f = camera.farZ;
+    // The demo never had an orthographic camera, so DemoGl has nothing faithful to keep here, and
+    // the GL form (orthoRH_NO, z_ndc in [-1, 1]) under D3D11 clipping (0 <= z <= w) would discard
+    // the nearer half of the depth range: both conventions take the D3D form.
     if (camera.projection == ProjectionKind::Orthographic)
-        return convention == ProjectionConvention::DemoGl
-                   ? glm::orthoRH_NO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, n, f)
-                   : glm::orthoRH_ZO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, n, f);
+        return glm::orthoRH_ZO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, n, f);
     const float tanHalfFovy = detTan(hlsl::radians(camera.fovYDeg) / 2.0f);
     glm::mat4 p(0.0f);
     p[0][0] = 1.0f / (a * tanHalfFovy);

@@ -48,7 +48,7 @@ inline constexpr glm::vec4 kDemoClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 // The 3dgep projection of `camera` (vertical FOV, aspect = camera.aspect or `aspect`). The
 // tangent comes from detTan (no libm); the element formulas are glm's (0.9.6.3 perspective for
 // DemoGl, perspectiveRH_ZO for D3d). Infinite far: the limits f -> inf. Orthographic cameras:
-// orthoRH_NO / orthoRH_ZO.
+// orthoRH_ZO under both conventions (the demo had none; the GL form would clip half the depth range).
 glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention);
 
 // What forward's passes share over a frame, also used by deferred's transparent pass ("identical
