@@ -2,7 +2,7 @@
 // (instance, primitive) with its normal matrix and winding, and every texture a material slot
 // uses, decoded with mips in parallel (each texture is independent, so the bytes do not depend
 // on scheduling).
-#include <tessera/techniques/scene_resources.h>
+#include <tessera/scene/scene_resources.h>
 
 #include <atomic>
 #include <mutex>
