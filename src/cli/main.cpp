@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,8 +17,10 @@
 
 #include <unistd.h>
 
+#include <tessera/io/atomic_file.h>
 #include <tessera/io/image_writer.h>
 #include <tessera/io/input_error.h>
+#include <tessera/io/json_depth.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/technique.h>
@@ -60,7 +63,7 @@ options:
   --tile T          tile size in px, even, 8..1024 (default 64)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png)
-  --stats           print load, per-pass and frame times and draw counters
+  --stats           print load, per-pass and frame times, draw counters and the FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
   --quiet           print nothing on success (no progress bar either)
   --help            show this text
@@ -200,17 +203,34 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     return o;
 }
 
-void writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
+// One written file and the FNV-1a 64 hash of its bytes (io/atomic_file.h), for --stats.
+struct WrittenFile {
+    std::string path;
+    std::uint64_t hash;
+};
+
+std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
+    std::vector<WrittenFile> written;
     // The presented image: alpha ignored, as a swap chain shows it (--dump keeps stored alpha).
-    tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType);
-    if (o.dumpDir.empty()) return;
+    written.push_back({o.out, tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType)});
+    if (o.dumpDir.empty()) return written;
     fs::create_directories(o.dumpDir);
     for (const std::string& name : registry.names()) {
         const tessera::Surface& s = *registry.find(name);
         const fs::path base = fs::path(o.dumpDir) / name;
-        tessera::writeSurface(s, base.string() + tessera::losslessExtension(s.format()));
-        if (tessera::formatInfo(s.format()).hasStencil) tessera::writeStencil(s, base.string() + ".stencil.png");
+        const std::string file = base.string() + tessera::losslessExtension(s.format());
+        written.push_back({file, tessera::writeSurface(s, file)});
+        if (tessera::formatInfo(s.format()).hasStencil) {
+            const std::string stencil = base.string() + ".stencil.png";
+            written.push_back({stencil, tessera::writeStencil(s, stencil)});
+        }
     }
+    return written;
+}
+
+// "hash     <16 hex digits>  <file>": FNV-1a 64 of each written file's bytes, in write order.
+void printHashes(const std::vector<WrittenFile>& written) {
+    for (const WrittenFile& w : written) std::printf("hash     %s  %s\n", tessera::hashHex(w.hash).c_str(), w.path.c_str());
 }
 
 void printDrawStats(const tessera::DrawStats& s) {
@@ -231,10 +251,11 @@ int renderBuiltin(const RenderOptions& o) {
     tessera::BufferRegistry registry;
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     const auto timings = frame.run(registry);
-    writeOutputs(registry, o);
+    const std::vector<WrittenFile> written = writeOutputs(registry, o);
     if (o.stats) {
         for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
         printDrawStats(drawStats);
+        printHashes(written);
     }
     if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
     return 0;
@@ -297,7 +318,7 @@ int render(const std::vector<std::string_view>& args) {
         const auto timings = frame.run(registry);
         const double frameMs = msSince(t2);
         progress.update("writing " + o.out, 0, 0);
-        writeOutputs(registry, o);
+        const std::vector<WrittenFile> written = writeOutputs(registry, o);
         progress.finish();
         if (o.stats) {
             std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",
@@ -312,6 +333,7 @@ int render(const std::vector<std::string_view>& args) {
             printDrawStats(drawStats);
             for (const auto& [variant, draws] : variantCounts)
                 std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
+            printHashes(written);
         }
         if (!o.quiet) std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;
@@ -350,8 +372,10 @@ int list(const std::vector<std::string_view>& args) {
     for (const fs::path& f : files) {
         std::string description;
         try {
-            std::ifstream in(f);
-            const nlohmann::json j = nlohmann::json::parse(in);
+            std::ifstream in(f, std::ios::binary);
+            const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            tessera::checkJsonDepth(text, f.string());
+            const nlohmann::json j = nlohmann::json::parse(text);
             if (j.contains("description") && j["description"].is_string()) description = firstSentence(j["description"].get<std::string>());
         } catch (const std::exception&) {
             description = "(not valid JSON)";
@@ -375,6 +399,10 @@ int info(const std::vector<std::string_view>& args) {
     if (sceneArg.empty()) throw UsageError("info needs a SCENE");
     const fs::path file = resolveScene(sceneArg);
     const tessera::SceneDescription desc = describe(file);
+    if (!tessera::findTechnique(desc.technique)) {
+        tessera::TechniqueContext probe;  // reports the unknown id with /technique, as render does
+        (void)tessera::buildTechnique(desc.technique, probe, file.string());
+    }
     tessera::Camera camera;
     const tessera::Scene scene = tessera::loadScene(desc, false, &camera);
     std::size_t primitives = 0, geometryBytes = 0;

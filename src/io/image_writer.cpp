@@ -1,16 +1,22 @@
 // OpenImageIO output of surfaces: PNG/TIFF bytes for 8-bit UNORM, EXR (half or float) for
-// shader-visible values, TIFF uint32 for UINT data; each written to "<stem>.partial<ext>" and
-// renamed into place on success, removed on failure.
+// shader-visible values, TIFF uint32 for UINT data; each encoded in memory without timestamps
+// and written by writeFileAtomically (unique temporary, every write checked, then renamed).
 #include <tessera/io/image_writer.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <ctime>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #ifndef TESSERA_NO_OIIO
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #endif
+
+#include <tessera/io/atomic_file.h>
 
 namespace tessera {
 namespace {
@@ -35,38 +41,61 @@ OIIO::TypeDesc typeDesc(PixelType t) {
     return OIIO::TypeDesc::FLOAT;
 }
 
-void writeImage(const std::filesystem::path& target, int width, int height, int channels, PixelType fileTypeIn,
-                PixelType memTypeIn, const void* pixels, const std::vector<std::string>& channelNames) {
+// The DateTime attribute every file gets: OIIO's EXR and TIFF writers would otherwise stamp the
+// current time (EXR capDate, TIFF DateTime), so that one command wrote different bytes each run.
+// SOURCE_DATE_EPOCH (seconds since 1970-01-01 UTC, as in the Reproducible Builds specification)
+// gives a fixed UTC time; without it the value is empty (TIFF and PNG then carry no date, EXR an
+// empty capDate).
+std::string fileDateTime() {
+    const char* env = std::getenv("SOURCE_DATE_EPOCH");
+    if (!env || !*env) return {};
+    char* end = nullptr;
+    errno = 0;
+    const long long seconds = std::strtoll(env, &end, 10);
+    if (errno != 0 || *end != '\0' || seconds < 0) return {};  // malformed: no date rather than a wrong one
+    const std::time_t t = static_cast<std::time_t>(seconds);
+    std::tm utc{};
+    if (!gmtime_r(&t, &utc)) return {};
+    char text[32];
+    if (std::strftime(text, sizeof text, "%Y:%m:%d %H:%M:%S", &utc) == 0) return {};  // TIFF/EXIF form
+    return text;
+}
+
+// Encodes the image into memory through OIIO's I/O proxy, then writes the bytes with
+// writeFileAtomically, which checks every system call: OIIO's own file writes do not report a
+// full disk. Returns FNV-1a 64 of the bytes written.
+std::uint64_t writeImage(const std::filesystem::path& target, int width, int height, int channels, PixelType fileTypeIn,
+                         PixelType memTypeIn, const void* pixels, const std::vector<std::string>& channelNames) {
     const OIIO::TypeDesc fileType = typeDesc(fileTypeIn), memType = typeDesc(memTypeIn);
-    const std::filesystem::path tmp = target.parent_path() / (target.stem().string() + ".partial" + target.extension().string());
-    auto out = OIIO::ImageOutput::create(tmp.string());
+    auto out = OIIO::ImageOutput::create(target.string());
     if (!out) throw std::runtime_error(target.string() + ": no image writer for this extension (" + OIIO::geterror() + ")");
+    if (!out->supports("ioproxy"))  // png, openexr and tiff do (OIIO 2.4); never write around the checks
+        throw std::runtime_error(target.string() + ": the " + std::string(out->format_name()) +
+                                 " writer cannot encode into memory, so a failed write could go unnoticed");
     OIIO::ImageSpec spec(width, height, channels, fileType);
     spec.channelnames = channelNames;
     // Pixels are written as stored: OIIO would otherwise treat RGBA as premultiplied and divide
     // by alpha on the way into PNG (PNG holds unassociated alpha).
     spec.attribute("oiio:UnassociatedAlpha", 1);
+    spec.attribute("DateTime", fileDateTime());
     spec.alpha_channel = -1;
     for (int c = 0; c < channels; ++c)
         if (channelNames[std::size_t(c)] == "A") spec.alpha_channel = c;
-    bool ok = out->open(tmp.string(), spec) && out->write_image(memType, pixels);
+    std::vector<unsigned char> encoded;
+    OIIO::Filesystem::IOVecOutput proxy(encoded);
+    bool ok = out->set_ioproxy(&proxy) && out->open(target.string(), spec) && out->write_image(memType, pixels);
     ok = out->close() && ok;
-    std::error_code ec;
-    if (!ok) {
+    if (!ok || encoded.empty()) {
         const std::string err = out->geterror();
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(target.string() + ": " + (err.empty() ? std::string("write failed") : err));
+        throw std::runtime_error(target.string() + ": cannot encode the image: " + (err.empty() ? std::string("no bytes produced") : err));
     }
-    std::filesystem::rename(tmp, target, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw std::runtime_error(target.string() + ": cannot rename into place: " + ec.message());
-    }
+    writeFileAtomically(target, encoded);
+    return fnv1a64(encoded);
 }
 #else
 // Built with TESSERA_WITH_OIIO=OFF (benchmark binaries for hosts without OpenImageIO).
-void writeImage(const std::filesystem::path& target, int, int, int, PixelType, PixelType, const void*,
-                const std::vector<std::string>&) {
+std::uint64_t writeImage(const std::filesystem::path& target, int, int, int, PixelType, PixelType, const void*,
+                         const std::vector<std::string>&) {
     throw std::runtime_error(target.string() + ": this tessera was built without OpenImageIO (TESSERA_WITH_OIIO=OFF) and writes no images");
 }
 #endif
@@ -91,7 +120,7 @@ std::string losslessExtension(Format format) {
     return ".exr";
 }
 
-void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelType exrType, std::uint32_t sample) {
+std::uint64_t writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelType exrType, std::uint32_t sample) {
     checkSample(s, sample, path);
     const int w = int(s.width()), h = int(s.height());
     const FormatInfo& info = formatInfo(s.format());
@@ -114,7 +143,7 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
                 }
             }
         const PixelType fileType = exrType == ExrPixelType::Half ? PixelType::Half : PixelType::Float;
-        writeImage(path, w, h, int(ch), fileType, PixelType::Float, px.data(),
+        return writeImage(path, w, h, int(ch), fileType, PixelType::Float, px.data(),
                    info.hasDepth ? std::vector<std::string>{"Z"} : colorChannelNames(ch));
     } else if (rgba8 && (ext == ".png" || ext == ".tif" || ext == ".tiff")) {
         std::vector<std::uint8_t> px(std::size_t(w) * h * 4);
@@ -122,7 +151,7 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
             for (std::uint32_t x = 0; x < s.width(); ++x)
                 for (int c = 0; c < 4; ++c)
                     px[(std::size_t(y) * w + x) * 4 + std::size_t(c)] = std::to_integer<std::uint8_t>(s.texel(x, y, sample)[c]);
-        writeImage(path, w, h, 4, PixelType::UInt8, PixelType::UInt8, px.data(), colorChannelNames(4));
+        return writeImage(path, w, h, 4, PixelType::UInt8, PixelType::UInt8, px.data(), colorChannelNames(4));
     } else if (info.kind == FormatKind::Uint && (ext == ".tif" || ext == ".tiff")) {
         const std::uint32_t ch = info.channels;
         std::vector<std::uint32_t> px(std::size_t(w) * h * ch);
@@ -131,7 +160,7 @@ void writeSurface(const Surface& s, const std::filesystem::path& path, ExrPixelT
                 const glm::uvec4 v = s.loadUint(x, y, sample);
                 for (std::uint32_t c = 0; c < ch; ++c) px[(std::size_t(y) * w + x) * ch + c] = v[int(c)];
             }
-        writeImage(path, w, h, int(ch), PixelType::UInt32, PixelType::UInt32, px.data(), colorChannelNames(ch));
+        return writeImage(path, w, h, int(ch), PixelType::UInt32, PixelType::UInt32, px.data(), colorChannelNames(ch));
     } else {
         throw std::runtime_error(path.string() + ": cannot store " + std::string(info.name) + " as '" + ext +
                                  "' without loss (use " + losslessExtension(s.format()) + ")");
@@ -156,14 +185,14 @@ Surface withOpaqueAlpha(const Surface& s) {
     return out;
 }
 
-void writeStencil(const Surface& s, const std::filesystem::path& path, std::uint32_t sample) {
+std::uint64_t writeStencil(const Surface& s, const std::filesystem::path& path, std::uint32_t sample) {
     checkSample(s, sample, path);
     if (!formatInfo(s.format()).hasStencil)
         throw std::runtime_error(path.string() + ": " + std::string(formatInfo(s.format()).name) + " has no stencil");
     std::vector<std::uint8_t> px(std::size_t(s.width()) * s.height());
     for (std::uint32_t y = 0; y < s.height(); ++y)
         for (std::uint32_t x = 0; x < s.width(); ++x) px[std::size_t(y) * s.width() + x] = s.loadStencil(x, y, sample);
-    writeImage(path, int(s.width()), int(s.height()), 1, PixelType::UInt8, PixelType::UInt8, px.data(), {"S"});
+    return writeImage(path, int(s.width()), int(s.height()), 1, PixelType::UInt8, PixelType::UInt8, px.data(), {"S"});
 }
 
 } // namespace tessera

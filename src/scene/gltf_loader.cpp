@@ -35,6 +35,7 @@
 #include <tbb/parallel_for.h>
 
 #include <tessera/io/input_error.h>
+#include <tessera/io/json_depth.h>
 
 namespace tessera {
 namespace {
@@ -424,6 +425,7 @@ public:
 
     void check(const Json& root) {
         if (!root.is_object()) fail("", "the JSON root is not an object");
+        assetVersion(root);
         strings(root, "extensionsUsed", "");
         strings(root, "extensionsRequired", "");
         uint(root, "scene", "");
@@ -546,6 +548,39 @@ public:
 private:
     [[noreturn]] void fail(const std::string& keyPath, const std::string& what) const {
         throw inputError(mFile, keyPath, what);
+    }
+    // "<major>.<minor>" (§3.2: the pattern ^[0-9]+\.[0-9]+$); nullopt when the value is not one.
+    static std::optional<std::pair<unsigned, unsigned>> version(const Json& value) {
+        if (!value.is_string()) return std::nullopt;
+        const std::string& text = value.get_ref<const std::string&>();
+        const std::size_t dot = text.find('.');
+        constexpr std::size_t MAX_VERSION_DIGITS = 6;  // per part; keeps the parts within unsigned
+        auto digits = [&](std::size_t begin, std::size_t end) {
+            return end > begin && end - begin <= MAX_VERSION_DIGITS &&
+                   std::all_of(text.begin() + std::ptrdiff_t(begin), text.begin() + std::ptrdiff_t(end),
+                               [](char c) { return c >= '0' && c <= '9'; });
+        };
+        if (dot == std::string::npos || !digits(0, dot) || !digits(dot + 1, text.size())) return std::nullopt;
+        return std::pair<unsigned, unsigned>(unsigned(std::stoul(text.substr(0, dot))), unsigned(std::stoul(text.substr(dot + 1))));
+    }
+    // §3.2 Asset: this loader reads glTF 2.x (minor versions are backwards compatible), and a
+    // file whose minVersion is above 2.0 needs features it does not know. A missing asset or
+    // version is left to tinygltf, which requires both.
+    void assetVersion(const Json& root) const {
+        const Json* asset = object(root, "asset", "");
+        if (!asset) return;
+        if (const Json* v = member(*asset, "version")) {
+            const auto parsed = version(*v);
+            if (!parsed) fail("/asset/version", shown(*v) + " is not a version \"<major>.<minor>\"");
+            if (parsed->first != 2)
+                fail("/asset/version", "glTF " + v->get<std::string>() + " is not supported (this loader reads glTF 2.x)");
+        }
+        if (const Json* v = member(*asset, "minVersion")) {
+            const auto parsed = version(*v);
+            if (!parsed) fail("/asset/minVersion", shown(*v) + " is not a version \"<major>.<minor>\"");
+            if (*parsed > std::pair<unsigned, unsigned>(2, 0))
+                fail("/asset/minVersion", "the file needs glTF " + v->get<std::string>() + " or later; this loader reads glTF 2.0");
+        }
     }
     static const Json* member(const Json& parent, const char* key) {
         const auto it = parent.find(key);
@@ -1551,6 +1586,8 @@ void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options
     // JSON syntax and types first (tinygltf would default mistyped values silently).
     {
         const std::string jsonText = gltfJsonText(file, binary);
+        // Before any parse: tinygltf's JSON parse recurses once per nesting level.
+        checkJsonDepth(jsonText, fileName);
         if (!jsonText.empty() || !binary) {
             nlohmann::json document;
             try {

@@ -4,6 +4,7 @@
 #include <tessera/scene/scene_file.h>
 
 #include <tessera/io/input_error.h>
+#include <tessera/io/json_depth.h>
 #include <tessera/scene/gltf_loader.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -16,6 +17,7 @@
 #include <sstream>
 #include <string_view>
 #include <system_error>
+#include <unordered_set>
 
 namespace tessera {
 
@@ -453,13 +455,72 @@ LightGeneratorSpec parseGenerator(const Reader& r, const Json& value, const std:
 
 } // namespace
 
+namespace {
+
+// Duplicate keys: RFC 8259 §4 says names within an object SHOULD be unique and leaves the
+// meaning open; nlohmann keeps the last one, so a scene file's earlier value would be dropped in
+// silence. The parse callback follows the parser's containers and refuses a repeated key, naming
+// its JSON pointer.
+class DuplicateKeyCheck {
+public:
+    explicit DuplicateKeyCheck(const Reader& reader) : mReader(reader) {}
+
+    bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+        switch (event) {
+        case Json::parse_event_t::object_start: mStack.push_back({true, childPath(), 0, {}, {}}); break;
+        case Json::parse_event_t::array_start: mStack.push_back({false, childPath(), 0, {}, {}}); break;
+        case Json::parse_event_t::key: {
+            Level& top = mStack.back();
+            const std::string& key = parsed.get_ref<const std::string&>();
+            if (!top.keys.insert(key).second)
+                mReader.fail(Reader::at(top.path, key), "duplicate key \"" + key + "\" (an earlier value would be silently replaced)");
+            top.key = key;
+            break;
+        }
+        case Json::parse_event_t::object_end:
+        case Json::parse_event_t::array_end:
+            mStack.pop_back();
+            elementDone();
+            break;
+        case Json::parse_event_t::value: elementDone(); break;
+        }
+        return true;
+    }
+
+private:
+    struct Level {
+        bool object;
+        std::string path;                     // JSON pointer of this container
+        std::size_t index;                    // arrays: the next element's index
+        std::string key;                      // objects: the key being read
+        std::unordered_set<std::string> keys; // objects: keys seen so far
+    };
+    std::string childPath() const {
+        if (mStack.empty()) return "";
+        const Level& top = mStack.back();
+        return top.object ? Reader::at(top.path, top.key) : Reader::at(top.path, top.index);
+    }
+    void elementDone() {
+        if (!mStack.empty() && !mStack.back().object) ++mStack.back().index;
+    }
+    const Reader& mReader;
+    std::vector<Level> mStack;
+};
+
+} // namespace
+
 const std::vector<std::string>& sceneFileTopLevelKeys() { return kTopLevelKeys; }
 
 SceneDescription parseSceneJson(const std::string& text, const std::filesystem::path& file) {
     const Reader r(file.string());
+    // Before any parse: a recursive copy of a deep "options" value would overflow the stack.
+    checkJsonDepth(text, file.string());
     Json root;
     try {
-        root = Json::parse(text);
+        DuplicateKeyCheck duplicates(r);
+        root = Json::parse(text, [&duplicates](int depth, Json::parse_event_t event, Json& parsed) {
+            return duplicates(depth, event, parsed);
+        });
     } catch (const Json::parse_error& e) {
         r.fail("", "invalid JSON (byte " + std::to_string(e.byte) + "): " + withoutExceptionPrefix(e.what()));
     } catch (const Json::exception& e) {

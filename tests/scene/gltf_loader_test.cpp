@@ -1022,3 +1022,64 @@ TEST_CASE("gltf bad input: images that are huge, negative, undecodable or missin
         expectInputError(f.write("image-view-oob.gltf"), {"/bufferViews/3"});
     }
 }
+
+TEST_CASE("gltf bad input: JSON nested deeper than 256 levels is refused before any parse, in .gltf and .glb") {
+    // 15,000 nested arrays in "extras" (about 30 KB) overflowed the stack of tinygltf's recursive
+    // parse with SIGSEGV; the pre-scan refuses them with an InputError instead.
+    constexpr int DEEP_LEVELS = 15000;  // arrays nested inside "extras"
+    const std::string deep = std::string(DEEP_LEVELS, '[') + std::string(DEEP_LEVELS, ']');
+    const std::string text = R"({"asset": {"version": "2.0"}, "extras": )" + deep + "}";
+    const fs::path gltf = scratch("deep-extras.gltf");
+    std::ofstream(gltf, std::ios::binary) << text;
+    // The root object is level 1, "extras" opens level 2: level 257 is its 256th '[' at byte 39 + 255.
+    const std::size_t extrasAt = text.find('[');
+    expectInputError(gltf, {"nested deeper than 256 levels", "at byte " + std::to_string(extrasAt + 255)});
+    expectInputError(gltf, {"nested deeper than 256 levels"}, false);
+
+    // The same JSON as a .glb's JSON chunk (§4.4.3: header, chunk length, "JSON", padded with spaces).
+    std::string chunk = text;
+    while (chunk.size() % 4) chunk += ' ';
+    std::string glb = "glTF";
+    auto putU32 = [&glb](std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) glb += char(v >> (8 * i) & 0xFF);
+    };
+    putU32(2);
+    putU32(std::uint32_t(12 + 8 + chunk.size()));
+    putU32(std::uint32_t(chunk.size()));
+    glb += "JSON";
+    glb += chunk;
+    const fs::path binary = scratch("deep-extras.glb");
+    std::ofstream(binary, std::ios::binary) << glb;
+    expectInputError(binary, {"nested deeper than 256 levels"});
+
+    // At the limit, and brackets inside strings (escaped quotes too), load normally.
+    GltfFile f = quadFile();
+    json nested = json::array();
+    for (int wraps = 0; wraps < 253; ++wraps) nested = json::array({nested});  // 254 arrays: levels 3..256 under root and "extras"
+    f.doc["extras"] = {{"deep", nested}, {"text", "\\\"[[[[" + std::string(1000, '{')}};
+    CHECK(load(f.write("deep-but-allowed.gltf")).meshes.size() == 1);
+}
+
+TEST_CASE("gltf bad input: asset.version other than 2.x and asset.minVersion above 2.0 are refused (§3.2)") {
+    struct Case { const char* key; json value; const char* needle; };
+    const Case cases[] = {
+        {"version", "9.0", "glTF 9.0 is not supported"},
+        {"version", "3.0", "glTF 3.0 is not supported"},
+        {"version", "1.0", "glTF 1.0 is not supported"},
+        {"version", "2", "is not a version"},
+        {"version", 2.0, "is not a version"},
+        {"minVersion", "2.1", "needs glTF 2.1"},
+        {"minVersion", "3.0", "needs glTF 3.0"},
+        {"minVersion", "two", "is not a version"},
+    };
+    for (const Case& c : cases) {
+        GltfFile f = quadFile();
+        f.doc["asset"][c.key] = c.value;
+        CAPTURE(f.doc["asset"].dump());
+        expectInputError(f.write("asset-version.gltf"), {std::string("/asset/") + c.key, c.needle});
+    }
+    // Minor versions are backwards compatible: 2.1 with minVersion 2.0 loads.
+    GltfFile ok = quadFile();
+    ok.doc["asset"] = {{"version", "2.1"}, {"minVersion", "2.0"}};
+    CHECK(load(ok.write("asset-2.1.gltf")).meshes.size() == 1);
+}

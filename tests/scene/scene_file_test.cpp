@@ -527,3 +527,34 @@ TEST_CASE("generate kind amd-forwardplus11: the demo's lights over the scene's b
         CHECK(std::string(e.what()).find("/generate/1/count: 4096 point lights; AMD ForwardPlus11 has at most 2048") != std::string::npos);
     }
 }
+
+TEST_CASE("duplicate keys are refused with the JSON pointer of the repeated key") {
+    expectError(scene(R"("technique": "forward", "technique": "deferred")"), "/technique", "duplicate key \"technique\"");
+    expectError(scene(R"("camera": {"position": [0, 0, 0], "target": [0, 0, -1], "target": [1, 0, 0]})"), "/camera/target",
+                "duplicate key");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0,0,0], "range": 1},
+                                    {"type": "point", "position": [0,0,0], "range": 1, "range": 2}])"),
+                "/lights/1/range", "duplicate key");
+    // Inside "options", passed on verbatim, and after nested arrays (indices counted past them).
+    expectError(scene(R"("options": {"a": [[1, 2], {"x": 1}, [3]], "b": [{"k": 1}, {"k": 2, "k": 3}]})"), "/options/b/1/k",
+                "duplicate key");
+    expectError(scene(R"("options": {"a/b~c": {"d": 1, "d": 2}})"), "/options/a~1b~0c/d", "duplicate key");
+    // The same key in different objects is fine.
+    const SceneDescription d = tessera::parseSceneJson(scene(R"("options": {"a": {"k": 1}, "b": {"k": 2}})"), kSceneFile);
+    CHECK(d.techniqueOptions["b"]["k"] == 2);
+}
+
+TEST_CASE("JSON nested deeper than 256 levels is refused before it is parsed or copied") {
+    // 10^6 levels in "options" overflowed the stack with SIGSEGV (the recursive copy of "options").
+    constexpr std::size_t DEEP_LEVELS = 1000000;  // nested arrays
+    const std::string deep = std::string(DEEP_LEVELS, '[') + std::string(DEEP_LEVELS, ']');
+    const std::string text = scene(R"("options": {"x": )" + deep + "}");
+    expectError(text, "", "JSON nested deeper than 256 levels (at byte " + std::to_string(text.find("[[") + 254) + ")");
+    // Unbalanced and inside strings: still refused at the bracket, or not counted at all.
+    expectError(std::string(300, '{'), "", "nested deeper than 256 levels");
+    std::string nested = "1";
+    for (int level = 0; level < 254; ++level) nested = "[" + nested + "]";  // root + options + 254 arrays = 256 levels
+    const SceneDescription d = tessera::parseSceneJson(
+        scene(R"("options": {"x": )" + nested + R"(, "s": "\"[[[[{{{{)" + std::string(1000, '[') + "\"}"), kSceneFile);
+    CHECK(d.techniqueOptions["x"].is_array());
+}

@@ -1,9 +1,12 @@
-// Writing surfaces to image files through OpenImageIO, atomically: each image is written to
-// "<stem>.partial<ext>" beside the target and renamed into place, so a failure leaves no file.
+// Writing surfaces to image files through OpenImageIO, atomically and reproducibly: each image is
+// encoded in memory and written by writeFileAtomically (io/atomic_file.h), so a failure (a full
+// disk included) throws and leaves the previous file as it was, and the same surface always gives
+// the same bytes (no timestamps; SOURCE_DATE_EPOCH, when set, gives a fixed DateTime instead).
 // The back buffer goes to PNG (8-bit, bytes as stored) or EXR (half or float); any surface can
 // be written in its own format without loss (see writeSurface).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -22,11 +25,12 @@ enum class ExrPixelType { Half, Float };
 //    distinct binary32 value);
 //  - .tif with a UINT format: uint32 channels (lossless).
 // Throws std::runtime_error naming the file when the writer fails or the pairing of format and
-// extension would lose data (e.g. a float surface to .png).
-void writeSurface(const Surface& surface, const std::filesystem::path& path,
+// extension would lose data (e.g. a float surface to .png). Returns fnv1a64 of the file's bytes.
+std::uint64_t writeSurface(const Surface& surface, const std::filesystem::path& path,
                   ExrPixelType exrType = ExrPixelType::Float, std::uint32_t sample = 0);
-// The stencil plane of a depth-stencil surface as an 8-bit single-channel image ("S").
-void writeStencil(const Surface& surface, const std::filesystem::path& path, std::uint32_t sample = 0);
+// The stencil plane of a depth-stencil surface as an 8-bit single-channel image ("S"); returns
+// fnv1a64 of the file's bytes.
+std::uint64_t writeStencil(const Surface& surface, const std::filesystem::path& path, std::uint32_t sample = 0);
 // A copy of a single-sample colour surface with alpha set to 1 (RGBA8: byte 255), as a swap
 // chain presents it (DXGI ignores back-buffer alpha). `tessera render --out` writes this, so
 // image viewers do not show a technique's leftover alpha as transparency; --dump keeps the
