@@ -19,6 +19,7 @@
 
 #include "gl_peer.h"
 #include "support/test_draw.h"
+#include "tessera_replay.h"
 
 using namespace tessera;
 using namespace tessera::test;
@@ -57,57 +58,6 @@ glm::vec4 randomColor(std::mt19937& rng) {  // multiples of 1/255 survive both p
     return glm::vec4(float(k(rng)) / 255.0f, float(k(rng)) / 255.0f, float(k(rng)) / 255.0f, 1.0f);
 }
 
-// Renders a PeerFrame through tessera with the same state.
-struct TesseraResult {
-    Surface color, ds;
-    std::uint64_t samplesPassed = 0;
-};
-
-TesseraResult renderTessera(const peer::PeerFrame& frame) {
-    TesseraResult r{Surface({std::uint32_t(frame.width), std::uint32_t(frame.height), Format::R8G8B8A8_UNORM, 1}),
-                    Surface({std::uint32_t(frame.width), std::uint32_t(frame.height), Format::D32_FLOAT_S8X24_UINT, 1})};
-    r.color.clearColor(glm::vec4(frame.clearColor[0], frame.clearColor[1], frame.clearColor[2], frame.clearColor[3]));
-    r.ds.clearDepthStencil(true, frame.clearDepth, true, frame.clearStencil);
-    Device dev(DeviceConfig{32, 2});
-    RenderTargets rt;
-    rt.colors[0] = &r.color;
-    rt.depthStencil = &r.ds;
-    OcclusionQuery query;
-    query.begin();
-    for (const peer::PeerDraw& d : frame.draws) {
-        std::vector<ColorVertex> v;
-        for (std::size_t i = 0; i < d.posClip.size(); ++i) {
-            const auto& p = d.posClip[i];
-            const auto& c = d.colorPerTriangle[i / 3];
-            v.push_back({glm::vec4(p[0], p[1], p[2], p[3]), glm::vec4(c[0], c[1], c[2], c[3])});
-        }
-        DrawState st;
-        st.viewport = fullViewport(r.color);
-        st.rasterizer.cullMode = CullMode(int(d.cull) + 1);
-        st.rasterizer.frontCounterClockwise = d.frontCounterClockwise;
-        st.rasterizer.depthClipEnable = d.depthClipEnable;
-        st.depthStencil.depthEnable = d.depthEnable;
-        st.depthStencil.depthWriteEnable = d.depthWrite;
-        st.depthStencil.depthFunc = ComparisonFunc(int(d.depthFunc) + 1);
-        st.depthStencil.stencilEnable = d.stencilEnable;
-        st.depthStencil.stencilReadMask = d.stencilReadMask;
-        st.depthStencil.stencilWriteMask = d.stencilWriteMask;
-        auto face = [](const peer::StencilFace& f) {
-            return StencilFaceDesc{StencilOp(int(f.failOp) + 1), StencilOp(int(f.depthFailOp) + 1),
-                                   StencilOp(int(f.passOp) + 1), ComparisonFunc(int(f.func) + 1)};
-        };
-        st.depthStencil.frontFace = face(d.front);
-        st.depthStencil.backFace = face(d.back);
-        st.stencilRef = d.stencilRef;
-        st.blend.renderTarget[0].renderTargetWriteMask = d.colorWrite ? WriteAll : 0;
-        if (d.additiveBlend) st.blend.renderTarget[0] = kAdditiveBlend;
-        dev.draw(st, rt, std::span<const ColorVertex>(v), {}, PassThroughVS{}, ColorPS{}, &query);
-    }
-    query.end();
-    r.samplesPassed = query.samplesPassed();
-    return r;
-}
-
 struct Comparison {
     int colorMismatch = 0, stencilMismatch = 0;
     double maxDepthError = 0;
@@ -130,7 +80,7 @@ Comparison compare(const TesseraResult& t, const peer::PeerImage& g) {
 }
 
 void checkFrame(const peer::PeerFrame& frame, double depthBound, const char* what) {
-    const TesseraResult t = renderTessera(frame);
+    const TesseraResult t = renderTessera(frame, 32);
     const peer::PeerImage g = glPeer().render(frame);
     const Comparison c = compare(t, g);
     INFO(std::string(what) << ": colour mismatches " << c.colorMismatch << " (first at " << c.firstX << "," << c.firstY
@@ -290,7 +240,7 @@ TEST_CASE("llvmpipe: sloped depth against the exact plane, one triangle at a tim
         }
         d.colorPerTriangle.push_back({1, 1, 1, 1});
         frame.draws.push_back(d);
-        const TesseraResult t = renderTessera(frame);
+        const TesseraResult t = renderTessera(frame, 32);
         const peer::PeerImage g = glPeer().render(frame);
         const double area = (double(p[1].x) - p[0].x) * (double(p[2].y) - p[0].y) - (double(p[1].y) - p[0].y) * (double(p[2].x) - p[0].x);
         if (area == 0) continue;

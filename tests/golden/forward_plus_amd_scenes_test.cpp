@@ -72,9 +72,7 @@ double listedPerReachingBound(const std::string& scene, const std::string& optio
         {"sponza-small-lights {\"halfZ\":true}", 14.9},                        // 13.523
         {"sponza-small-lights {\"culling\":\"min-max\",\"halfZ\":true}", 15.7},// 14.215
     };
-    const auto it = bounds.find(scene + " " + options);
-    REQUIRE_MESSAGE(it != bounds.end(), "no false-positive bound stated for " << scene << " " << options);
-    return it->second;
+    return test::statedBound(bounds, scene + " " + options);
 }
 
 std::set<std::uint32_t> listAt(const Surface& grid, const Surface& pool, std::uint32_t tx, std::uint32_t ty) {

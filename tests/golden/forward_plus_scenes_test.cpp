@@ -85,9 +85,7 @@ double listedPerReachingBound(const std::string& scene, int tileSize) {
         {"sponza-small-lights/16", 30.7},  // 27.875
         {"sponza-small-lights/32", 79.0},  // 71.770
     };
-    const auto it = bounds.find(scene + "/" + std::to_string(tileSize));
-    REQUIRE_MESSAGE(it != bounds.end(), "no false-positive bound stated for " << scene << " tile " << tileSize);
-    return it->second;
+    return test::statedBound(bounds, scene + "/" + std::to_string(tileSize));
 }
 
 ListCheck checkOpaqueLists(const std::string& scene, const nlohmann::json& options) {

@@ -120,9 +120,7 @@ double listedPerInRangeBound(const std::string& scene, const std::string& option
         {"sponza-small-lights {\"tilePlanes\":\"seed004\"}", 6.31},               // 5.7346 (tight planes)
         {"sponza-small-lights {\"position\":\"gbuffer\",\"shading\":\"3dgep\"}", 8.97},// 8.1544
     };
-    const auto it = bounds.find(scene + " " + options);
-    REQUIRE_MESSAGE(it != bounds.end(), "no false-positive bound stated for " << scene << " " << options);
-    return it->second;
+    return test::statedBound(bounds, scene + " " + options);
 }
 
 std::uint64_t checkScene(const std::string& name) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -84,6 +85,14 @@ private:
 // three scenes the README lists are among them, so a loop over the names cannot pass by running
 // over nothing (a moved scenes/ folder, a wrong TESSERA_SOURCE_DIR).
 std::vector<std::string> bundledSceneNames();
+
+// The bound stated for `key` in a test's table of measured bounds (false-positive ratios of the
+// culling tests); fails the calling test when none is stated, so a new scene or option needs one.
+inline double statedBound(const std::map<std::string, double>& bounds, const std::string& key) {
+    const auto it = bounds.find(key);
+    REQUIRE_MESSAGE(it != bounds.end(), "no bound stated for " << key);
+    return it->second;
+}
 
 // The opaque pass's shading points: (posView, SV_Position.z) per pixel, w = -1 where no opaque
 // geometry; the same draws and states as forward's OpaquePass (forward.h), with a pixel shader
