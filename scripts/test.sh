@@ -53,7 +53,8 @@ if [ "${TESSERA_SKIP_TSAN:-0}" != 1 ]; then
         -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DTESSERA_SANITIZE=thread -DTESSERA_LLVMPIPE=OFF \
         -DCMAKE_PREFIX_PATH="$PWD/build-tbb-tsan"
   cmake --build build-tsan -j"$jobs" --target tests_determinism tests_compute
-  ldd build-tsan/tests/tests_compute | grep -q "$PWD/build-tbb-tsan/lib/libtbb" ||
+  loaded=$(ldd build-tsan/tests/tests_compute)   # (not piped into grep -q: pipefail + SIGPIPE)
+  [[ $loaded == *"$PWD/build-tbb-tsan/lib/libtbb"* ]] ||
     { echo "test.sh: the TSan tests do not load the instrumented oneTBB" >&2; exit 1; }
   TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
     ctest --test-dir build-tsan -j"$jobs" --output-on-failure -L 'determinism|compute'
