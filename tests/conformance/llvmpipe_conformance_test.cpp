@@ -29,16 +29,6 @@ namespace {
 constexpr int kSize = 256;
 constexpr float kSizeF = 256.0f;
 
-peer::GlPeer& glPeer() {
-    static std::optional<peer::GlPeer> instance = [] {
-        std::string why;
-        auto p = peer::GlPeer::create(&why);
-        if (!p) FAIL("cannot create the llvmpipe peer: " << why);
-        return p;
-    }();
-    return *instance;
-}
-
 float gridPx(std::mt19937& rng, float lo, float hi) {  // a window coordinate on the 1/128 px grid
     std::uniform_int_distribution<int> d(int(lo * 128), int(hi * 128));
     return float(d(rng)) / 128.0f;

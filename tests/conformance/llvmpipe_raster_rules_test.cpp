@@ -37,16 +37,6 @@ constexpr int kSize = 256;            // px, target side (power of two, see the 
 constexpr float kSizeF = 256.0f;
 constexpr std::uint32_t kTileSizes[] = {8, 16, 64};  // px, tessera DeviceConfig::tileSize values compared
 
-peer::GlPeer& glPeer() {
-    static std::optional<peer::GlPeer> instance = [] {
-        std::string why;
-        auto p = peer::GlPeer::create(&why);
-        if (!p) FAIL("cannot create the llvmpipe peer: " << why);
-        return p;
-    }();
-    return *instance;
-}
-
 // D3D11 standard 4x pattern (D3D11.3 §19.2.4), 1/16 px from the pixel centre; llvmpipe's
 // lp_sample_pos_4x is the same set in the same order (gl_peer.cpp).
 constexpr int kSample4[4][2] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};

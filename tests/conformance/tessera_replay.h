@@ -1,16 +1,33 @@
 // Replays a peer::PeerFrame (the draws and states the llvmpipe peer renders) through tessera with
 // the same state: targets of the frame's sample count and depth format, one device of the given
-// tile size, and an occlusion query over all draws. Shared by the conformance tests.
+// tile size, and an occlusion query over all draws; and the one llvmpipe peer of the test
+// executable (created on first use). Shared by the conformance tests.
 #pragma once
 
+#include <doctest/doctest.h>
+
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "gl_peer.h"
 #include "support/test_draw.h"
 
 namespace tessera::test {
+
+// The llvmpipe peer shared by every conformance test of the executable; fails the calling test
+// when EGL or llvmpipe cannot be set up.
+inline peer::GlPeer& glPeer() {
+    static std::optional<peer::GlPeer> instance = [] {
+        std::string why;
+        auto p = peer::GlPeer::create(&why);
+        if (!p) FAIL("cannot create the llvmpipe peer: " << why);
+        return p;
+    }();
+    return *instance;
+}
 
 struct TesseraResult {
     Surface color, ds;
