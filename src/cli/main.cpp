@@ -399,10 +399,7 @@ int info(const std::vector<std::string_view>& args) {
     if (sceneArg.empty()) throw UsageError("info needs a SCENE");
     const fs::path file = resolveScene(sceneArg);
     const tessera::SceneDescription desc = describe(file);
-    if (!tessera::findTechnique(desc.technique)) {
-        tessera::TechniqueContext probe;  // reports the unknown id with /technique, as render does
-        (void)tessera::buildTechnique(desc.technique, probe, file.string());
-    }
+    (void)tessera::requireTechnique(desc.technique, file.string());  // planned techniques are described too
     tessera::Camera camera;
     const tessera::Scene scene = tessera::loadScene(desc, false, &camera);
     std::size_t primitives = 0, geometryBytes = 0;

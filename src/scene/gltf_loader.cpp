@@ -554,9 +554,9 @@ private:
         if (!value.is_string()) return std::nullopt;
         const std::string& text = value.get_ref<const std::string&>();
         const std::size_t dot = text.find('.');
-        constexpr std::size_t MAX_VERSION_DIGITS = 6;  // per part; keeps the parts within unsigned
+        constexpr std::size_t kMaxVersionDigits = 6;  // per part; keeps the parts within unsigned
         auto digits = [&](std::size_t begin, std::size_t end) {
-            return end > begin && end - begin <= MAX_VERSION_DIGITS &&
+            return end > begin && end - begin <= kMaxVersionDigits &&
                    std::all_of(text.begin() + std::ptrdiff_t(begin), text.begin() + std::ptrdiff_t(end),
                                [](char c) { return c >= '0' && c <= '9'; });
         };

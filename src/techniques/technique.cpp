@@ -49,13 +49,18 @@ const TechniqueInfo* findTechnique(std::string_view id) {
     return nullptr;
 }
 
-Frame buildTechnique(std::string_view id, const TechniqueContext& context, const std::string& sceneFile) {
+const TechniqueInfo& requireTechnique(std::string_view id, const std::string& sceneFile) {
     const TechniqueInfo* t = findTechnique(id);
     if (!t) {
         std::string known;
         for (const TechniqueInfo& k : kTechniques) known += (known.empty() ? "" : ", ") + std::string(k.id);
         throw inputError(sceneFile, "/technique", "unknown technique '" + std::string(id) + "' (known: " + known + ")");
     }
+    return *t;
+}
+
+Frame buildTechnique(std::string_view id, const TechniqueContext& context, const std::string& sceneFile) {
+    const TechniqueInfo* t = &requireTechnique(id, sceneFile);
     if (!t->build) {
         std::string ready;
         for (const TechniqueInfo& k : kTechniques)

@@ -53,6 +53,9 @@ struct TechniqueInfo {
 std::span<const TechniqueInfo> techniques();
 // Null when no technique has this id.
 const TechniqueInfo* findTechnique(std::string_view id);
+// The technique with this id (ready or planned); throws InputError naming `sceneFile` and
+// "/technique" with the known ids when there is none.
+const TechniqueInfo& requireTechnique(std::string_view id, const std::string& sceneFile);
 
 // Builds the frame; throws InputError for an unknown or unimplemented technique id or an
 // unknown option key (naming "/technique" or "/options/KEY").
