@@ -2,6 +2,7 @@
 # the packaging pitfalls recorded in shared/spec/images-and-deps.md.
 find_package(glm CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
+find_package(hwy CONFIG REQUIRED)     # Highway (libhwy-dev): portable SIMD with runtime dispatch, target hwy::hwy
 if(TESSERA_WITH_OIIO)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO target lists /usr/include/opencv4, which only exists with

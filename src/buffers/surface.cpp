@@ -3,10 +3,12 @@
 // D32_FLOAT_S8X24_UINT = float depth, then stencil byte, then 3 unused bytes.
 #include <tessera/buffers/surface.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
 #include <tessera/buffers/conversion.h>
+#include <tessera/buffers/fill.h>
 #include <tessera/buffers/texel_codec.h>
 #include <tessera/state/viewport.h>
 
@@ -68,7 +70,8 @@ std::uint8_t Surface::loadStencil(std::uint32_t x, std::uint32_t y, std::uint32_
 
 namespace {
 void fillPattern(std::vector<std::byte>& bytes, const std::byte* pattern, std::uint32_t size) {
-    for (std::size_t i = 0; i < bytes.size(); i += size) std::memcpy(bytes.data() + i, pattern, size);
+    const std::byte keep[16]{};  // overwrite every byte
+    maskedFill(bytes, keep, pattern, size);
 }
 } // namespace
 
@@ -89,19 +92,32 @@ void Surface::clearDepthStencil(bool clearDepth, float depth, bool clearStencil,
     if (!info.hasDepth) throw std::invalid_argument("clearDepthStencil on " + std::string(info.name));
     // D3D11 ClearDepthStencilView: depth is clamped to [0,1] before conversion.
     const float z = depth != depth ? 0.0f : (depth < 0.0f ? 0.0f : (depth > 1.0f ? 1.0f : depth));
-    for (std::size_t i = 0; i < mBytes.size(); i += mBytesPerTexel) {
-        std::byte* p = mBytes.data() + i;
-        if (mDesc.format == Format::D24_UNORM_S8_UINT) {
-            std::uint32_t v;
-            std::memcpy(&v, p, 4);
-            if (clearDepth) v = (v & 0xFF000000u) | convert::depthToD24(z);
-            if (clearStencil) v = (v & 0x00FFFFFFu) | (std::uint32_t(stencil) << 24);
-            std::memcpy(p, &v, 4);
-        } else {
-            if (clearDepth) std::memcpy(p, &z, 4);
-            if (clearStencil && info.hasStencil) p[4] = std::byte{stencil};
+    // One texel's keep mask and set bytes, then the masked fill (buffers/fill.h).
+    std::byte keep[8], set[8]{};
+    std::fill(std::begin(keep), std::end(keep), std::byte{0xFF});
+    if (mDesc.format == Format::D24_UNORM_S8_UINT) {
+        std::uint32_t keepBits = 0xFFFFFFFFu, setBits = 0;
+        if (clearDepth) {
+            keepBits &= 0xFF000000u;
+            setBits |= convert::depthToD24(z);
+        }
+        if (clearStencil) {
+            keepBits &= 0x00FFFFFFu;
+            setBits |= std::uint32_t(stencil) << 24;
+        }
+        std::memcpy(keep, &keepBits, 4);
+        std::memcpy(set, &setBits, 4);
+    } else {
+        if (clearDepth) {
+            std::fill(keep, keep + 4, std::byte{0});
+            std::memcpy(set, &z, 4);
+        }
+        if (clearStencil && info.hasStencil) {
+            keep[4] = std::byte{0};
+            set[4] = std::byte{stencil};
         }
     }
+    maskedFill(mBytes, keep, set, mBytesPerTexel);
 }
 
 Surface Surface::resolve(Format format) const {
