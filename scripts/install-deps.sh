@@ -8,8 +8,12 @@ packages=(
   cmake ninja-build g++ pkg-config
   libglm-dev libopenimageio-dev openimageio-tools libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libstb-dev doctest-dev libbenchmark-dev
+  # portable SIMD with runtime dispatch (the vectorised pixel pipeline)
+  libhwy-dev
   # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
   assimp-testmodels
+  # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)
+  python3-matplotlib
   # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
 )

@@ -31,7 +31,7 @@ inline std::uint32_t loadUint32(const std::byte* base, std::size_t element) {
 
 // The Forward+ PS_main light loop over the pixel's tile list (TileLightList; the light grid
 // read with out-of-bounds Load = 0, the index list with out-of-bounds reads = 0).
-template <class T>
+template <class T, bool kFast>
 LightingResult<T> doLightingTile(const PhongShaderData<T>& d, const glm::vec4& posWindow, T specularPower,
                                  const Vec4<T>& posView, const Vec4<T>& normalView) {
     const TileLightList& list = *d.tileLights;
@@ -48,16 +48,16 @@ LightingResult<T> doLightingTile(const PhongShaderData<T>& d, const glm::vec4& p
         const std::uint32_t at = startOffset + i;  // uint arithmetic, wraps as in HLSL
         return at < list.indexCount ? loadUint32(list.indices, at) : 0u;
     };
-    return doLightingListed<T>(d.lights, lightCount, lightIndexAt, specularPower, posView, normalView, specularPower > T(1));
+    return doLightingListed<T, kFast>(d.lights, lightCount, lightIndexAt, specularPower, posView, normalView, specularPower > T(1));
 }
 
-template <class T, std::uint32_t F>
+template <class T, std::uint32_t F, bool kFast = false>
 bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in, Vec4<T>& color) {
     PhongSurface<T> s;
     if (!gatherPhongSurface<T, F>(d, in, s)) return false;
     const Vec4<T> posView(Vec3<T>(in.varyings.posView), T(1));
-    const LightingResult<T> lit = d.tileLights ? doLightingTile<T>(d, in.posWindow, s.specularPower, posView, s.normalView)
-                                               : doLighting<T>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
+    const LightingResult<T> lit = d.tileLights ? doLightingTile<T, kFast>(d, in.posWindow, s.specularPower, posView, s.normalView)
+                                               : doLighting<T, kFast>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
 
     const Vec4<T> diffuse = s.diffuse * Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
     // specular ignored for power <= 1
@@ -75,6 +75,11 @@ constexpr std::array<PhongShadeFn<float>, sizeof...(I)> makeExactTable(std::inde
     return {&shadePhong<float, phongVariantMask(I)>...};
 }
 constexpr auto kExactTable = makeExactTable(std::make_index_sequence<kPhongVariantCount>{});
+template <std::size_t... I>
+constexpr std::array<PhongShadeFn<float>, sizeof...(I)> makeFastTable(std::index_sequence<I...>) {
+    return {&shadePhong<float, phongVariantMask(I), true>...};
+}
+constexpr auto kFastTable = makeFastTable(std::make_index_sequence<kPhongVariantCount>{});
 
 } // namespace
 
@@ -140,15 +145,20 @@ PhongVariant selectPhongVariant<float>(std::uint32_t features) {
     v.mayDiscard = (features & kPhongAlphaTest) != 0;
     if ((features & ~kPhongSpecializedAxes) == 0) {
         v.exact = kExactTable[phongVariantIndex(features)];
+        v.fast = kFastTable[phongVariantIndex(features)];
         v.name = "exact:";
         v.name += phongFeatureNames(features);
+        v.fastName = "fast:" + phongFeatureNames(features);
     } else {
         // The generic variant checks every texture slot at run time; the alpha test stays a
         // compile-time choice (it cannot be detected from a bound slot).
         v.exact = v.mayDiscard ? &shadePhong<float, kPhongAllFeatures> : &shadePhong<float, kPhongAllFeatures & ~kPhongAlphaTest>;
+        v.fast = v.mayDiscard ? &shadePhong<float, kPhongAllFeatures, true>
+                              : &shadePhong<float, kPhongAllFeatures & ~kPhongAlphaTest, true>;
         v.name = "exact:generic(";
         v.name += phongFeatureNames(features);
         v.name += ')';
+        v.fastName = "fast" + v.name.substr(5);
     }
     return v;
 }

@@ -3,6 +3,8 @@
 // Geometry is generated here; the camera is a D3D-style left-handed perspective (z in 0..1).
 #include <tessera/techniques/builtin_scene.h>
 
+#include <tessera/buffers/conversion.h>
+
 #include <array>
 #include <utility>
 #include <vector>
@@ -32,15 +34,20 @@ struct SceneVS {
     }
 };
 
+// T = float: exact and fast; T = double: reference, written to both targets (the back buffer
+// and its float copy).
+template <class T, int kTargets>
 struct LambertPS {
     using Varyings = LitVaryings;
-    static constexpr int kTargetCount = 1;
+    static constexpr int kTargetCount = kTargets;
     glm::vec3 lightDirView;  // towards the light, normalized
-    void operator()(const PixelInput<LitVaryings>& in, PixelOutput<1>& out) const {
-        const glm::vec3 n = glm::normalize(in.varyings.normalView);
-        const float diffuse = glm::max(glm::dot(n, lightDirView), 0.0f);
-        const glm::vec3 rgb = glm::vec3(in.varyings.color) * (0.25f + 0.75f * diffuse);
-        out.target[0] = glm::vec4(rgb, in.varyings.color.w);
+    void operator()(const PixelInput<LitVaryings>& in, PixelOutput<kTargets>& out) const {
+        using V3 = glm::vec<3, T, glm::defaultp>;
+        const V3 n = glm::normalize(V3(in.varyings.normalView));
+        const T diffuse = glm::max(glm::dot(n, V3(lightDirView)), T(0));
+        const V3 rgb = V3(glm::vec3(in.varyings.color)) * (T(0.25) + T(0.75) * diffuse);
+        out.target[0] = glm::vec4(glm::vec3(rgb), in.varyings.color.w);
+        if constexpr (kTargets == 2) out.target[1] = convert::clampUnorm(out.target[0]);  // as the UNORM target clamps
     }
 };
 
@@ -70,17 +77,40 @@ Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& o, DrawStats&
     const glm::mat4 view = glm::lookAtLH(glm::vec3(4.5f, 3.5f, -6.0f), glm::vec3(0.0f, 0.6f, 0.0f), glm::vec3(0, 1, 0));
     const glm::mat4 proj = glm::perspectiveLH_ZO(glm::radians(45.0f), aspect, 0.1f, 100.0f);
     const SceneVS vs{view, proj * view};
-    const LambertPS ps{glm::normalize(glm::vec3(view * glm::vec4(glm::normalize(glm::vec3(-0.4f, 1.0f, -0.6f)), 0.0f)))};
+    const glm::vec3 lightDirView =
+        glm::normalize(glm::vec3(view * glm::vec4(glm::normalize(glm::vec3(-0.4f, 1.0f, -0.6f)), 0.0f)));
     const bool msaa = o.sampleCount > 1;
+    const bool reference = o.precision == Precision::Reference;
     const std::string colorName = msaa ? "backbuffer.msaa" : "backbuffer";
+    const std::string referenceName = msaa ? "backbuffer.reference.msaa" : "backbuffer.reference";
+    const std::vector<std::string> colors = reference ? std::vector<std::string>{colorName, referenceName}
+                                                      : std::vector<std::string>{colorName};
+    std::vector<std::string> colorsDepth = colors;
+    colorsDepth.emplace_back("depth");
+    constexpr glm::vec4 kClear{0.08f, 0.09f, 0.12f, 1.0f};
+    const auto draw = [&device, &stats, colorName, referenceName, reference, lightDirView, precision = o.precision](
+                          BufferRegistry& reg, const DrawState& state, const std::vector<SceneVertex>& verts, const SceneVS& shader) {
+        DrawState st = state;
+        st.precision = precision;
+        RenderTargets rt;
+        rt.colors[0] = &reg.get(colorName);
+        rt.depthStencil = &reg.get("depth");
+        if (reference) {
+            rt.colors[1] = &reg.get(referenceName);
+            stats += device.draw(st, rt, std::span<const SceneVertex>(verts), {}, shader, LambertPS<double, 2>{lightDirView});
+        } else {
+            stats += device.draw(st, rt, std::span<const SceneVertex>(verts), {}, shader, LambertPS<float, 1>{lightDirView});
+        }
+    };
 
-    frame.add({"clear", {}, {colorName, "depth"}, [=](BufferRegistry& reg) {
-                   reg.create(colorName, {o.width, o.height, Format::R8G8B8A8_UNORM, o.sampleCount})
-                       .clearColor(glm::vec4(0.08f, 0.09f, 0.12f, 1.0f));
+    frame.add({"clear", {}, colorsDepth, [=](BufferRegistry& reg) {
+                   reg.create(colorName, {o.width, o.height, Format::R8G8B8A8_UNORM, o.sampleCount}).clearColor(kClear);
+                   if (reference)
+                       reg.create(referenceName, {o.width, o.height, Format::R32G32B32A32_FLOAT, o.sampleCount}).clearColor(kClear);
                    reg.create("depth", {o.width, o.height, Format::D24_UNORM_S8_UINT, o.sampleCount})
                        .clearDepthStencil(true, 1.0f, true, 0);
                }});
-    frame.add({"opaque", {colorName, "depth"}, {colorName, "depth"}, [=, &device, &stats](BufferRegistry& reg) {
+    frame.add({"opaque", colorsDepth, colorsDepth, [=](BufferRegistry& reg) {
                    std::vector<SceneVertex> verts;
                    addQuad(verts, {-6, 0, -6}, {-6, 0, 6}, {6, 0, 6}, {6, 0, -6}, {0, 1, 0}, {0.55f, 0.55f, 0.5f, 1});
                    addCube(verts, {-1.6f, 0.65f, 0.4f}, 0.6f, {0.85f, 0.25f, 0.2f, 1});
@@ -88,12 +118,9 @@ Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& o, DrawStats&
                    addCube(verts, {1.5f, 0.45f, -0.9f}, 0.4f, {0.3f, 0.75f, 0.3f, 1});
                    DrawState st;
                    st.viewport = Viewport{0, 0, float(o.width), float(o.height), 0, 1};
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(colorName);
-                   rt.depthStencil = &reg.get("depth");
-                   stats += device.draw(st, rt, std::span<const SceneVertex>(verts), {}, vs, ps);
+                   draw(reg, st, verts, vs);
                }});
-    frame.add({"transparent", {colorName, "depth"}, {colorName}, [=, &device, &stats](BufferRegistry& reg) {
+    frame.add({"transparent", colorsDepth, colors, [=](BufferRegistry& reg) {
                    std::vector<SceneVertex> verts;
                    addQuad(verts, {-2.5f, 0.0f, -1.2f}, {-2.5f, 2.2f, -1.2f}, {0.8f, 2.2f, -1.2f}, {0.8f, 0.0f, -1.2f},
                            {0, 0, -1}, {0.95f, 0.85f, 0.3f, 0.45f});
@@ -102,16 +129,20 @@ Frame buildBuiltinScene(Device& device, const BuiltinSceneOptions& o, DrawStats&
                    st.rasterizer.cullMode = CullMode::None;
                    st.depthStencil.depthWriteEnable = false;
                    st.blend.renderTarget[0] = kAlphaBlend;
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(colorName);
-                   rt.depthStencil = &reg.get("depth");
-                   stats += device.draw(st, rt, std::span<const SceneVertex>(verts), {}, vs, ps);
+                   draw(reg, st, verts, vs);
                }});
     if (msaa) {
-        frame.add({"resolve", {colorName}, {"backbuffer"}, [=](BufferRegistry& reg) {
-                       Surface resolved = reg.get(colorName).resolve(Format::R8G8B8A8_UNORM);
-                       Surface& out = reg.create("backbuffer", resolved.desc());
-                       out = std::move(resolved);
+        std::vector<std::string> resolved{"backbuffer"};
+        if (reference) resolved.emplace_back("backbuffer.reference");
+        frame.add({"resolve", colors, resolved, [=](BufferRegistry& reg) {
+                       Surface back = reg.get(colorName).resolve(Format::R8G8B8A8_UNORM);
+                       Surface& out = reg.create("backbuffer", back.desc());
+                       out = std::move(back);
+                       if (reference) {
+                           Surface ref = reg.get(referenceName).resolve(Format::R32G32B32A32_FLOAT);
+                           Surface& outRef = reg.create("backbuffer.reference", ref.desc());
+                           outRef = std::move(ref);
+                       }
                    }});
     }
     return frame;

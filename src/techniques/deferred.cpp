@@ -176,38 +176,49 @@ struct LightingInputs {
 // PS_DeferredLighting for one light. kTargets = 1: the demo's
 // `(diffuse * lit.Diffuse) + (specular * lit.Specular)`; kTargets = 2 (accumulate lighting):
 // lit.Diffuse and lit.Specular. No Enabled and no range check: the volume selects the pixels.
-template <int kTargets>
+// T = float: exact, or fast with fastmath (phong_lighting.h); T = double: reference, the
+// G-buffer's float values shaded in double and rounded once to float by the output.
+template <int kTargets, class T = float>
 struct DeferredLightingPS {
     using Varyings = NoVaryings;
     static constexpr int kTargetCount = kTargets;
     const LightingInputs* in = nullptr;
-    const ViewLight<float>* light = nullptr;
+    const ViewLight<T>* light = nullptr;
+    bool fast = false;
     void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<kTargets>& out) const {
         // int2 texCoord = IN.position.xy (truncation: the pixel's integer corner).
         const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
         const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y);
-        const glm::vec4 posView =
-            in->positionFromGBuffer
-                ? in->position.load(x, y)
-                : reconstructPositionView(x, y, in->depth->loadDepth(x, y), in->screenDimensions, in->inverseProjection,
-                                          in->samplePoint);
-        const glm::vec4 eyeView{0.0f, 0.0f, 0.0f, 1.0f};
-        const glm::vec4 viewDirView = hlsl::normalize(eyeView - posView);
-        const glm::vec4 diffuse = in->diffuse.load(x, y);
-        const glm::vec4 specular = in->specular.load(x, y);
-        const glm::vec4 normalView = in->normal.load(x, y);
-        const float specularPower = in->specularPower(specular);
-        LightingResult<float> lit;
-        switch (light->type) {
-        case LightType::Directional: lit = doDirectionalLight(*light, specularPower, viewDirView, normalView); break;
-        case LightType::Point: lit = doPointLight(*light, specularPower, viewDirView, posView, normalView); break;
-        case LightType::Spot: lit = doSpotLight(*light, specularPower, viewDirView, posView, normalView); break;
+        const Vec4<T> posView(in->positionFromGBuffer ? in->position.load(x, y)
+                                                      : reconstructPositionView(x, y, in->depth->loadDepth(x, y),
+                                                                                in->screenDimensions, in->inverseProjection,
+                                                                                in->samplePoint));
+        const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
+        const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
+        const Vec4<T> diffuse(in->diffuse.load(x, y));
+        const glm::vec4 specularStored = in->specular.load(x, y);
+        const Vec4<T> specular(specularStored);
+        const Vec4<T> normalView(in->normal.load(x, y));
+        const T specularPower = T(in->specularPower(specularStored));
+        LightingResult<T> lit;
+        const auto shade = [&]<bool kFast>() {
+            switch (light->type) {
+            case LightType::Directional: lit = doDirectionalLight<T, kFast>(*light, specularPower, viewDirView, normalView); break;
+            case LightType::Point: lit = doPointLight<T, kFast>(*light, specularPower, viewDirView, posView, normalView); break;
+            case LightType::Spot: lit = doSpotLight<T, kFast>(*light, specularPower, viewDirView, posView, normalView); break;
+            }
+        };
+        if constexpr (std::is_same_v<T, float>) {
+            if (fast) shade.template operator()<true>();
+            else shade.template operator()<false>();
+        } else {
+            shade.template operator()<false>();
         }
         if constexpr (kTargets == 1) {
-            out.target[0] = diffuse * lit.diffuse + specular * lit.specular;
+            out.target[0] = glm::vec4(diffuse * lit.diffuse + specular * lit.specular);
         } else {
-            out.target[0] = lit.diffuse;
-            out.target[1] = lit.specular;
+            out.target[0] = glm::vec4(lit.diffuse);
+            out.target[1] = glm::vec4(lit.specular);
         }
     }
 };
@@ -234,6 +245,17 @@ struct ComposePS {
         out.target[0] = glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w);
     }
 };
+
+// Writes a float target to the back buffer as the output merger converts a PS value to
+// R8G8B8A8_UNORM without blending: NaN -> 0, clamp to [0, 1], round (D3D11.3 §3.2.3.6).
+void presentToBackBuffer(const Surface& from, Surface& backbuffer) {
+    for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
+        for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
+            glm::vec4 v = from.load(x, y);
+            for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
+            backbuffer.store(x, y, 0, v);
+        }
+}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -272,6 +294,8 @@ DeferredOptions parseOptions(const TechniqueContext& ctx, Method method, const s
                              ? VolumeRotation::Robust
                              : VolumeRotation::Glm096;
     o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
+    // Precision reference keeps the G-buffer unquantized: float targets, power unpacked.
+    if (ctx.precision == Precision::Reference) o.floatTargets = true;
     o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
     o.accumulateLighting = optionEnum(j, "accumulate", {"color", "lighting"}, "color", file) == "lighting";
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
@@ -294,6 +318,7 @@ void drawLightGeometry(const DeferredSetup& setup, Device& device, const PassSta
     const ForwardPassSetup& fwd = *setup.forward;
     const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
     DrawState st = makeDrawState(pass, viewport);
+    st.precision = fwd.precision;
     VolumeVS vs;
     std::span<const VolumeVertex> vertices;
     std::span<const std::uint32_t> indices;
@@ -317,9 +342,10 @@ void drawLightGeometry(const DeferredSetup& setup, Device& device, const PassSta
 
 // The lighting pass: per enabled light in scene order, the 3dgep (unmark, shade) or Killzone 2
 // (mark, count, shade-if-above-threshold) sequence; directional lights as the far-plane quad.
-template <int kTargets>
+template <int kTargets, class T>
 void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawStats* stats,
                std::map<std::string, std::uint64_t>* variantCounts) {
+    using PS = DeferredLightingPS<kTargets, T>;
     const ForwardPassSetup& fwd = *setup.forward;
     Surface& depth = reg.get("depth");
     RenderTargets depthOnly;
@@ -342,7 +368,10 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     for (std::size_t i = 0; i < setup.lightsWorld.size(); ++i) {
         const Light& light = setup.lightsWorld[i];
         if (!light.enabled) continue;  // the demo draws no volume for a disabled light
-        const DeferredLightingPS<kTargets> ps{&setup.inputs, &fwd.lightsExact[i]};
+        const ViewLight<T>* viewLight;
+        if constexpr (std::is_same_v<T, float>) viewLight = &fwd.lightsExact[i];
+        else viewLight = &fwd.lightsReference[i];
+        const PS ps{&setup.inputs, viewLight, fwd.precision == Precision::Fast};
         if (drawnAsQuad(light)) {
             // DeferredLightingPass::Render clears the stencil for every enabled light; the
             // directional pipeline does not use it.
@@ -354,17 +383,17 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         }
         if (setup.method == Method::Dgep) {
             depth.clearDepthStencil(false, 0.0f, true, kDeferredStencilClear);
-            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kDeferredUnmarkPass, depthOnly, light, nullptr,
+            drawLightGeometry<PS>(setup, device, kDeferredUnmarkPass, depthOnly, light, nullptr,
                                                             nullptr, stats);
             drawLightGeometry(setup, device, kDeferredShadePass, shadeTargets, light, &ps, nullptr, stats);
             count("light:", light);
         } else {
             depth.clearDepthStencil(false, 0.0f, true, kKillzoneStencilClear);
-            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kKillzoneMarkPass, depthOnly, light, nullptr,
+            drawLightGeometry<PS>(setup, device, kKillzoneMarkPass, depthOnly, light, nullptr,
                                                             nullptr, stats);
             OcclusionQuery query;
             query.begin();
-            drawLightGeometry<DeferredLightingPS<kTargets>>(setup, device, kKillzoneCountPass, depthOnly, light, nullptr,
+            drawLightGeometry<PS>(setup, device, kKillzoneCountPass, depthOnly, light, nullptr,
                                                             &query, stats);
             query.end();
             const std::uint64_t passed = query.samplesPassed();
@@ -383,7 +412,6 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
 
 Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     const std::string file = ctx.errorFile();
-    requirePrecision(ctx, method == Method::Killzone ? "deferred-killzone" : "deferred");
     auto setup = std::make_shared<DeferredSetup>();
     setup->method = method;
     setup->options = parseOptions(ctx, method, file);
@@ -411,6 +439,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     else lightTargets = {setup->accumulationName};
     std::vector<std::string> created = gbufferTargets;
     if (setup->separateAccumulation) created.push_back(back);
+    if (ctx.precision == Precision::Reference) created.emplace_back(kReferenceBufferName);
     if (opt.accumulateLighting) created.insert(created.end(), lightTargets.begin(), lightTargets.end());
     created.emplace_back("depth");
     if (method == Method::Killzone) created.emplace_back("killzone.samples");
@@ -420,6 +449,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    const DeferredOptions& o = setup->options;
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   if (setup->forward->precision == Precision::Reference)
+                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    if (setup->separateAccumulation)
                        reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
                    reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
@@ -481,22 +512,29 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    in.normal = TargetReader(reg.get("gbuffer.normal"));
                    if (setup->options.positionFromGBuffer) in.position = TargetReader(reg.get("gbuffer.position"));
                    in.depth = &reg.get("depth.copy");
-                   if (setup->options.accumulateLighting) runLights<2>(*setup, *device, reg, stats, variantCounts);
-                   else runLights<1>(*setup, *device, reg, stats, variantCounts);
+                   const bool reference = setup->forward->precision == Precision::Reference;
+                   if (setup->options.accumulateLighting) {
+                       if (reference) runLights<2, double>(*setup, *device, reg, stats, variantCounts);
+                       else runLights<2, float>(*setup, *device, reg, stats, variantCounts);
+                   } else {
+                       if (reference) runLights<1, double>(*setup, *device, reg, stats, variantCounts);
+                       else runLights<1, float>(*setup, *device, reg, stats, variantCounts);
+                   }
                }});
 
+    const bool reference = ctx.precision == Precision::Reference;
     if (setup->separateAccumulation) {
         // The accumulation target to the back buffer as the output merger converts a PS value
         // to R8G8B8A8_UNORM without blending: NaN -> 0, clamp to [0, 1], round (D3D11.3 §3.2.3.6).
-        frame.add({"present", {"accumulation"}, {back}, [](BufferRegistry& reg) {
+        // Precision reference also keeps the float values in the reference buffer.
+        frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [reference](BufferRegistry& reg) {
                        const Surface& accumulation = reg.get("accumulation");
-                       Surface& backbuffer = reg.get(kBackBufferName);
-                       for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
-                           for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
-                               glm::vec4 v = accumulation.load(x, y);
-                               for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
-                               backbuffer.store(x, y, 0, v);
-                           }
+                       presentToBackBuffer(accumulation, reg.get(kBackBufferName));
+                       if (reference) {
+                           Surface& copy = reg.get(kReferenceBufferName);
+                           for (std::uint32_t y = 0; y < copy.height(); ++y)
+                               for (std::uint32_t x = 0; x < copy.width(); ++x) copy.store(x, y, 0, convert::clampUnorm(accumulation.load(x, y)));
+                       }
                    }});
     }
     if (opt.accumulateLighting) {
@@ -504,13 +542,15 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
         // quad's pixels), written to the back buffer without blending.
         std::vector<std::string> composeReads{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "light.diffuse",
                                               "light.specular", "depth", back};
-        frame.add({"compose", composeReads, {back}, [setup, device, stats](BufferRegistry& reg) {
+        // Precision reference composes into the float buffer and quantizes it afterwards.
+        frame.add({"compose", withReferenceBuffer(composeReads, ctx.precision), withReferenceBuffer({back}, ctx.precision),
+                   [setup, device, stats, reference](BufferRegistry& reg) {
                        LightingInputs& in = setup->inputs;
                        in.accumulation = TargetReader(reg.get("accumulation"));
                        in.lightDiffuse = TargetReader(reg.get("light.diffuse"));
                        in.lightSpecular = TargetReader(reg.get("light.specular"));
                        RenderTargets rt;
-                       rt.colors[0] = &reg.get(kBackBufferName);
+                       rt.colors[0] = &reg.get(reference ? kReferenceBufferName : kBackBufferName);
                        rt.depthStencil = &reg.get("depth");
                        PassState pass = kDeferredDirectionalPass;
                        pass.blend = BlendState{};
@@ -518,14 +558,22 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                        quad.type = LightType::Directional;
                        const ComposePS ps{&setup->inputs};
                        drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
+                       if (reference) {
+                           Surface& composed = reg.get(kReferenceBufferName);
+                           presentToBackBuffer(composed, reg.get(kBackBufferName));
+                           for (std::uint32_t y = 0; y < composed.height(); ++y)
+                               for (std::uint32_t x = 0; x < composed.width(); ++x) composed.store(x, y, 0, convert::clampUnorm(composed.load(x, y)));
+                       }
                    }});
     }
 
     // The demo's TransparentPass with g_pTransparentPipeline, as forward's (seed 000 §5:
     // "identical to forward"), over the back buffer and the G-buffer's depth.
-    frame.add({"transparent", {back, "depth"}, {back}, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
+               [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get(kBackBufferName);
+                   if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
                    rt.depthStencil = &reg.get("depth");
                    drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
                }});
@@ -544,6 +592,7 @@ void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const Scen
         // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque
         // pass, with its glTF additions: doubleSided culls none, mirrored transforms).
         DrawState st = makeDrawState(kDeferredGBufferPass, Viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f});
+        st.precision = fwd.precision;
         st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
         st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
         const glm::mat4 viewFromObject = fwd.viewFromWorld * item.worldFromObject;

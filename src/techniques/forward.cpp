@@ -32,9 +32,10 @@ void drawItem(Device& device, const DrawState& state, const RenderTargets& targe
     data.tileLights = tileLights;
     const PhongVariant variant = selectPhongVariant<T>(phongFeatures(material, setup.alphaTest));
     PhongShadeFn<T> shade;
-    if constexpr (std::is_same_v<T, float>) shade = variant.exact;
+    const bool fast = setup.precision == Precision::Fast;
+    if constexpr (std::is_same_v<T, float>) shade = fast ? variant.fast : variant.exact;
     else shade = variant.reference;
-    if (variantCounts) ++(*variantCounts)[variant.name];
+    if (variantCounts) ++(*variantCounts)[fast ? variant.fastName : variant.name];
     const std::span<const SceneVertex> vertices(prim.vertices);
     DrawStats s = variant.mayDiscard
                       ? device.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, true, kTargets>{shade, &data})
@@ -82,8 +83,9 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     const SceneResources& res = *ctx.resources;
     setup->textures = std::make_unique<PhongTextureSet>(res, sampler);
     // Lights in the scene's order, to view space once per frame (the demo's UpdateLights).
+    // Float lights always (the techniques' culling reads them), double ones for reference shading.
+    setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
     if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
-    else setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
     return setup;
 }
 
@@ -98,6 +100,7 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         st.viewport = Viewport{0.0f, 0.0f, float(setup.width), float(setup.height), 0.0f, 1.0f};
         st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
         st.depthStencil.depthFunc = overrides.depthFunc;
+        st.precision = setup.precision;
         if (transparentPass) {
             // g_pTransparentPipeline: alpha blending, depth test LESS with writes off, cull none.
             st.rasterizer.cullMode = CullMode::None;
@@ -112,7 +115,7 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         if (reference)
-            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts, nullptr);
+            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
         else
             drawItem<float, 1>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
     }
@@ -120,7 +123,6 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
 
 Frame buildForward(const TechniqueContext& ctx) {
     const std::string file = ctx.errorFile();
-    requirePrecision(ctx, "forward", true);
     const std::string projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file);
     const std::string sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file);
     const bool alphaTest = optionBool(ctx.options, "alphaTest", false, file);
@@ -131,7 +133,7 @@ Frame buildForward(const TechniqueContext& ctx) {
     const bool reference = ctx.precision == Precision::Reference;
     Frame frame;
     std::vector<std::string> colorBuffers{std::string(kBackBufferName)};
-    if (reference) colorBuffers.emplace_back("backbuffer.reference");
+    if (reference) colorBuffers.emplace_back(kReferenceBufferName);
     std::vector<std::string> allBuffers = colorBuffers;
     allBuffers.emplace_back("depth");
 
@@ -139,7 +141,7 @@ Frame buildForward(const TechniqueContext& ctx) {
                    const std::uint32_t w = setup->width, h = setup->height;
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
                    if (reference)
-                       reg.create("backbuffer.reference", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
                }});
 
@@ -151,7 +153,7 @@ Frame buildForward(const TechniqueContext& ctx) {
         return [setup, device, stats, variantCounts, res, reference, transparentPass](BufferRegistry& reg) {
             RenderTargets rt;
             rt.colors[0] = &reg.get(kBackBufferName);
-            if (reference) rt.colors[1] = &reg.get("backbuffer.reference");
+            if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
             rt.depthStencil = &reg.get("depth");
             drawForwardPass(*setup, *device, *res, rt, transparentPass, stats, variantCounts);
         };

@@ -804,6 +804,7 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
         st.viewport = Viewport{0.0f, 0.0f, float(setup.width), float(setup.height), 0.0f, 1.0f};
         st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
         st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        st.precision = setup.precision;  // the opaque pass's LESS_EQUAL needs the same depth path
         const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
         const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
@@ -847,7 +848,6 @@ ForwardPlusCounters readForwardPlusCounters(const BufferRegistry& registry) {
 
 Frame buildForwardPlus(const TechniqueContext& ctx) {
     const std::string file = ctx.errorFile();
-    requirePrecision(ctx, "forward-plus");
     auto st = std::make_shared<ForwardPlusState>();
     st->options = parseOptions(ctx, file);
     st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);
@@ -919,6 +919,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
             bound.tileSizePx = st->options.tileSizePx;
             RenderTargets rt;
             rt.colors[0] = &reg.get(kBackBufferName);
+            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
             rt.depthStencil = &reg.get("depth");
             // Both Forward+ pipelines test LESS_EQUAL: the opaque pass against its own pre-pass
             // depth, the transparent pass without writes (main.cpp).
@@ -928,11 +929,14 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
             drawForwardPass(*st->setup, *device, *res, rt, transparentPass, stats, variantCounts, overrides);
         };
     };
-    frame.add({"opaque", {back, "depth", "lightgrid.opaque", "lightindex.opaque", "lightlist.counters"}, {back, "depth"},
-               drawPass(false)});
+    // Precision reference: the listed lights shaded in double into the float copy as well.
+    const auto withColors = [&ctx](std::vector<std::string> names) { return withReferenceBuffer(std::move(names), ctx.precision); };
+    const std::vector<std::string> colors = withColors({back});
+    frame.add({"opaque", withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque", "lightlist.counters"}),
+               withColors({back, "depth"}), drawPass(false)});
     frame.add({"transparent",
-               {back, "depth", "lightgrid.transparent", "lightindex.transparent", "lightlist.counters"},
-               {back},
+               withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent", "lightlist.counters"}),
+               colors,
                drawPass(true)});
     return frame;
 }
@@ -940,9 +944,13 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
 void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
                                    const SceneResources* resources, DrawStats* stats) {
     const std::string back(kBackBufferName);
-    frame.add({"clear", {}, {back, "depth"}, [setup](BufferRegistry& reg) {
+    std::vector<std::string> cleared{back, "depth"};
+    if (setup->precision == Precision::Reference) cleared.emplace_back(kReferenceBufferName);
+    frame.add({"clear", {}, cleared, [setup](BufferRegistry& reg) {
                    const std::uint32_t w = setup->width, h = setup->height;
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   if (setup->precision == Precision::Reference)
+                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
                }});
     frame.add({"depth-prepass", {"depth"}, {"depth"}, [setup, device, resources, stats](BufferRegistry& reg) {

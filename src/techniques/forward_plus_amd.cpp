@@ -259,40 +259,43 @@ struct AmdShadeData {
 };
 
 // RenderScenePS. Varyings from PhongVS with viewFromObject = worldFromObject: posView holds the
-// WORLD position and normalView the world normal (AMD shades in world space).
-template <bool kDiscard>
+// WORLD position and normalView the world normal (AMD shades in world space). T = float: exact
+// and fast (one target); T = double: reference, the same operations in double from the float
+// inputs (varyings, texels, the light table after its format conversions), written to the back
+// buffer and, clamped as the UNORM target clamps, to the float copy (kTargets = 2).
+template <bool kDiscard, class T = float, int kTargets = 1>
 struct AmdScenePS {
     using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 1;
+    static constexpr int kTargetCount = kTargets;
     static constexpr bool kMayDiscard = kDiscard;
     const PhongShaderData<float>* material = nullptr;
     AmdShadeData shade;
     bool alphaTest = false;
     bool blended = false;
 
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargets>& out) const {
         glm::vec4 diffuseTex = material->diffuseColor;
         if (material->diffuseTexture.bound()) diffuseTex = phong_detail::textureRule(diffuseTex, material->diffuseTexture.sample(in));
         const float alpha = material->ignoreDiffuseAlpha ? 1.0f : diffuseTex.w;
-        float specMask = diffuseTex.w;  // fSpecMask = DiffuseTex.a
+        T specMask = T(diffuseTex.w);  // fSpecMask = DiffuseTex.a
         if constexpr (kDiscard) {
             if (alphaTest) {  // USE_ALPHA_TEST: discard below the threshold, fSpecMask = 0
                 if (alpha * material->opacity < material->alphaThreshold) {
                     out.discard();
                     return;
                 }
-                specMask = 0.0f;
+                specMask = T(0);
             }
         }
-        const glm::vec3 posWorld = in.varyings.posView;
-        const glm::vec3 normalWorld = hlsl::normalize(glm::vec3(in.varyings.normalView));
-        const glm::vec3 viewDir = amdViewDir(shade.state->cameraPosWorld, posWorld);
+        const Vec3<T> posWorld(in.varyings.posView);
+        const Vec3<T> normalWorld = hlsl::normalize(Vec3<T>(in.varyings.normalView));
+        const Vec3<T> viewDir = amdViewDir(Vec3<T>(shade.state->cameraPosWorld), posWorld);
 
         // GetTileIndex: floor(x / 8) + floor(y / 8) * numTilesX.
         const AmdTileLightLists& lists = *shade.lists;
         const auto tileX = std::uint32_t(std::floor(in.posWindow.x / float(kAmdTileSizePx)));
         const auto tileY = std::uint32_t(std::floor(in.posWindow.y / float(kAmdTileSizePx)));
-        AmdLightingResult<float> accum;
+        AmdLightingResult<T> accum;
         if (tileX < lists.tileCount.x && tileY < lists.tileCount.y) {
             const std::uint32_t tile = tileX + tileY * lists.tileCount.x;
             std::span<const std::uint32_t> list = lists.tileLights(tile);
@@ -305,19 +308,27 @@ struct AmdScenePS {
             const AmdLightTable& table = shade.state->table;
             for (std::uint32_t index : list) {  // the point-light loop
                 if (table.kind[index] != AmdKind::Point) continue;
-                const AmdLightingResult<float> r = amdPointLight(table.points[index], posWorld, normalWorld, viewDir);
+                const AmdPointLight<float>& p = table.points[index];
+                const AmdLightingResult<T> r = amdPointLight(
+                    AmdPointLight<T>{Vec3<T>(p.centerWorld), T(p.radius), Vec3<T>(p.color)}, posWorld, normalWorld, viewDir);
                 accum.diffuse += r.diffuse;
                 accum.specular += r.specular;
             }
             for (std::uint32_t index : list) {  // the spot-light loop
                 if (table.kind[index] != AmdKind::Spot) continue;
-                const AmdLightingResult<float> r = amdSpotLight(table.spots[index], posWorld, normalWorld, viewDir);
+                const AmdSpotLight<float>& sp = table.spots[index];
+                const AmdLightingResult<T> r =
+                    amdSpotLight(AmdSpotLight<T>{Vec3<T>(sp.boundingCenterWorld), T(sp.boundingRadius), Vec3<T>(sp.color),
+                                                 Vec4<T>(sp.spotParams)},
+                                 posWorld, normalWorld, viewDir);
                 accum.diffuse += r.diffuse;
                 accum.specular += r.specular;
             }
         }
-        const glm::vec3 rgb = amdComposePixel(accum, normalWorld, glm::vec3(diffuseTex), specMask, kAmdAmbientUp, kAmdAmbientDown);
-        out.target[0] = glm::vec4(rgb, blended ? alpha * material->opacity : 1.0f);
+        const Vec3<T> rgb = amdComposePixel(accum, normalWorld, Vec3<T>(glm::vec3(diffuseTex)), specMask,
+                                            Vec3<T>(kAmdAmbientUp), Vec3<T>(kAmdAmbientDown));
+        out.target[0] = glm::vec4(glm::vec3(rgb), blended ? alpha * material->opacity : 1.0f);
+        if constexpr (kTargets == 2) out.target[1] = convert::clampUnorm(out.target[0]);
     }
 };
 
@@ -339,15 +350,22 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
         } else {
             ds.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
         }
+        ds.precision = setup.precision;  // the pre-pass's depth path (LESS_EQUAL)
         // The clip matrix exactly as the pre-pass forms it (same depth values: LESS_EQUAL passes).
         const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
         const PhongVS vs{setup.clipFromView * viewFromObject, item.worldFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
         const std::span<const SceneVertex> vertices(prim.vertices);
-        DrawStats s = setup.alphaTest
-                          ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, transparentPass})
-                          : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, transparentPass});
+        DrawStats s;
+        if (setup.precision == Precision::Reference)
+            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs,
+                                              AmdScenePS<true, double, 2>{&data, shade, true, transparentPass})
+                                : device.draw(ds, rt, vertices, prim.indices, vs,
+                                              AmdScenePS<false, double, 2>{&data, shade, false, transparentPass});
+        else
+            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, transparentPass})
+                                : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, transparentPass});
         if (stats) *stats += s;
     }
 }
@@ -373,7 +391,6 @@ SpotBoundingSphere spotBoundingSphere(float range, float halfAngleDeg) {
 
 Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const std::string file = ctx.errorFile();
-    requirePrecision(ctx, "forward-plus-amd");
     auto st = std::make_shared<AmdState>();
     st->options = parseOptions(ctx, file);
     st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);
@@ -401,6 +418,7 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
             RenderTargets rt;
             rt.colors[0] = &reg.get(kBackBufferName);
+            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
             rt.depthStencil = &reg.get("depth");
             if (st->options.shadingAmd) {
                 drawAmdPass(*st, *device, *res, rt, transparentPass, stats);
@@ -423,8 +441,12 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
             drawForwardPass(*st->setup, *device, *res, rt, transparentPass, stats, variantCounts, overrides);
         };
     };
-    frame.add({"opaque", {back, "depth", "lightgrid.opaque", "lightindex.opaque"}, {back, "depth"}, drawPass(false)});
-    frame.add({"transparent", {back, "depth", "lightgrid.transparent", "lightindex.transparent"}, {back}, drawPass(true)});
+    const auto withColors = [&ctx](std::vector<std::string> names) { return withReferenceBuffer(std::move(names), ctx.precision); };
+    const std::vector<std::string> colors = withColors({back});
+    frame.add({"opaque", withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque"}), withColors({back, "depth"}),
+               drawPass(false)});
+    frame.add({"transparent", withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent"}), colors,
+               drawPass(true)});
     return frame;
 }
 

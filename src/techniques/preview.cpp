@@ -3,6 +3,8 @@
 // the clear: opaque + mask, then blend.
 #include <tessera/techniques/preview.h>
 
+#include <tessera/buffers/conversion.h>
+
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -41,10 +43,12 @@ struct BoundTexture {
     }
 };
 
-template <bool kMask>
+// T = float: exact and fast; T = double: reference (the head light and sums in double, written
+// to the sRGB back buffer and, clamped as that target clamps, to the float copy: kTargets = 2).
+template <bool kMask, class T = float, int kTargets = 1>
 struct PreviewPS {
     using Varyings = PreviewVaryings;
-    static constexpr int kTargetCount = 1;
+    static constexpr int kTargetCount = kTargets;
     static constexpr bool kMayDiscard = kMask;
     glm::vec4 baseColorFactor;
     BoundTexture baseColor;
@@ -53,7 +57,8 @@ struct PreviewPS {
     float alphaCutoff;
     bool opaque;  // OPAQUE: alpha forced to 1 (glTF 2.0 §3.9.4)
     glm::vec3 eyeWorld;
-    void operator()(const PixelInput<PreviewVaryings>& in, PixelOutput<1>& out) const {
+    void operator()(const PixelInput<PreviewVaryings>& in, PixelOutput<kTargets>& out) const {
+        using V3 = glm::vec<3, T, glm::defaultp>;
         glm::vec4 color = baseColorFactor;
         if (baseColor.texture) color *= baseColor.sample(in);
         if constexpr (kMask) {
@@ -62,14 +67,15 @@ struct PreviewPS {
                 return;
             }
         }
-        const glm::vec3 n = glm::normalize(in.varyings.normalWorld);
-        const glm::vec3 v = glm::normalize(eyeWorld - in.varyings.posWorld);
-        const float headLight = 0.2f + 0.8f * glm::abs(glm::dot(n, v));
-        glm::vec3 rgb = glm::vec3(color) * headLight;
+        const V3 n = glm::normalize(V3(in.varyings.normalWorld));
+        const V3 v = glm::normalize(V3(eyeWorld) - V3(in.varyings.posWorld));
+        const T headLight = T(0.2) + T(0.8) * glm::abs(glm::dot(n, v));
+        V3 rgb = V3(glm::vec3(color)) * headLight;
         glm::vec3 glow = emissiveFactor;
         if (emissive.texture) glow *= glm::vec3(emissive.sample(in));
-        rgb += glow;
-        out.target[0] = glm::vec4(rgb, opaque || kMask ? 1.0f : color.w);
+        rgb += V3(glow);
+        out.target[0] = glm::vec4(glm::vec3(rgb), opaque || kMask ? 1.0f : color.w);
+        if constexpr (kTargets == 2) out.target[1] = convert::clampUnorm(out.target[0]);
     }
 };
 
@@ -108,14 +114,20 @@ Frame buildPreview(const TechniqueContext& ctx) {
     Device& device = *ctx.device;
     DrawStats* stats = ctx.stats;
 
-    frame.add({"clear", {}, {"backbuffer", "depth"}, [w, h](BufferRegistry& reg) {
-                   reg.create("backbuffer", {w, h, Format::R8G8B8A8_UNORM_SRGB, 1}).clearColor(glm::vec4(0.02f, 0.02f, 0.025f, 1.0f));
+    const Precision precision = ctx.precision;
+    const bool reference = precision == Precision::Reference;
+    const std::string back(kBackBufferName);
+    frame.add({"clear", {}, withReferenceBuffer({back, "depth"}, precision), [w, h, reference](BufferRegistry& reg) {
+                   constexpr glm::vec4 kClear{0.02f, 0.02f, 0.025f, 1.0f};
+                   reg.create("backbuffer", {w, h, Format::R8G8B8A8_UNORM_SRGB, 1}).clearColor(kClear);
+                   if (reference) reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClear);
                    reg.create("depth", {w, h, Format::D32_FLOAT, 1}).clearDepthStencil(true, 1.0f, false, 0);
                }});
     auto drawPass = [=, &res, &device](bool blendPass) {
         return [=, &res, &device](BufferRegistry& reg) {
             RenderTargets rt;
             rt.colors[0] = &reg.get("backbuffer");
+            if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
             rt.depthStencil = &reg.get("depth");
             for (const DrawItem& item : res.drawItems()) {
                 const Material& m = res.material(item.material);
@@ -125,6 +137,7 @@ Frame buildPreview(const TechniqueContext& ctx) {
                 st.viewport = Viewport{0, 0, float(w), float(h), 0, 1};
                 st.rasterizer.cullMode = m.doubleSided ? CullMode::None : CullMode::Back;
                 st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+                st.precision = precision;
                 if (blendPass) {
                     st.depthStencil.depthWriteEnable = false;
                     st.blend.renderTarget[0] = kAlphaBlend;
@@ -137,15 +150,21 @@ Frame buildPreview(const TechniqueContext& ctx) {
                 const BoundTexture base = bind(res, m.baseColorTexture, TexelEncoding::Srgb);
                 const BoundTexture glow = bind(res, m.emissiveTexture, TexelEncoding::Srgb);
                 const bool opaque = m.alphaMode == AlphaMode::Opaque;
-                if (m.alphaMode == AlphaMode::Mask)
-                    draw(PreviewPS<true>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
-                else
-                    draw(PreviewPS<false>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
+                const bool mask = m.alphaMode == AlphaMode::Mask;
+                if (reference) {
+                    if (mask) draw(PreviewPS<true, double, 2>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
+                    else draw(PreviewPS<false, double, 2>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
+                } else {
+                    if (mask) draw(PreviewPS<true>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
+                    else draw(PreviewPS<false>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
+                }
             }
         };
     };
-    frame.add({"opaque", {"backbuffer", "depth"}, {"backbuffer", "depth"}, drawPass(false)});
-    frame.add({"transparent", {"backbuffer", "depth"}, {"backbuffer"}, drawPass(true)});
+    frame.add({"opaque", withReferenceBuffer({back, "depth"}, precision), withReferenceBuffer({back, "depth"}, precision),
+               drawPass(false)});
+    frame.add({"transparent", withReferenceBuffer({back, "depth"}, precision), withReferenceBuffer({back}, precision),
+               drawPass(true)});
     return frame;
 }
 

@@ -79,11 +79,9 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
 }
 
 
-void requirePrecision(const TechniqueContext& ctx, std::string_view technique, bool allowReference) {
-    if (ctx.precision == Precision::Exact || (allowReference && ctx.precision == Precision::Reference)) return;
-    throw inputError(ctx.errorFile(), "/precision",
-                     "precision '" + std::string(precisionName(ctx.precision)) + "' is not implemented for " + std::string(technique) +
-                         " (use exact" + (allowReference ? " or reference)" : ")"));
+std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision) {
+    if (precision == Precision::Reference) names.insert(names.begin() + (names.empty() ? 0 : 1), std::string(kReferenceBufferName));
+    return names;
 }
 
 } // namespace tessera

@@ -32,43 +32,62 @@ float intelLinstep(float minValue, float maxValue, float v) { return hlsl::satur
 
 namespace {
 
+// Intel's functions generic over the scalar: T = float is the sample's (exact; kFast uses
+// fastmath's pow), T = double the reference.
+template <class T>
+T linstep(T minValue, T maxValue, T v) {
+    return hlsl::saturate((v - minValue) / (maxValue - minValue));
+}
+
 // AccumulatePhongBRDF (Rendering.hlsl): `lightContrib` already includes the attenuation.
-void intelPhong(const glm::vec3& normal, const glm::vec3& lightDir, const glm::vec3& viewDir, const glm::vec3& lightContrib,
-                float specularPower, glm::vec3& litDiffuse, glm::vec3& litSpecular) {
-    const float nDotL = hlsl::dot(normal, lightDir);
-    if (nDotL > 0.0f) {
+template <class T, bool kFast = false>
+void intelPhong(const Vec3<T>& normal, const Vec3<T>& lightDir, const Vec3<T>& viewDir, const Vec3<T>& lightContrib,
+                T specularPower, Vec3<T>& litDiffuse, Vec3<T>& litSpecular) {
+    const T nDotL = hlsl::dot(normal, lightDir);
+    if (nDotL > T(0)) {
         // reflect(i, n) = i - 2 * dot(n, i) * n
-        const glm::vec3 r = lightDir - (2.0f * hlsl::dot(normal, lightDir)) * normal;
-        const float rDotV = hlsl::max(0.0f, hlsl::dot(r, viewDir));
-        const float specular = detPow(rDotV, specularPower);
+        const Vec3<T> r = lightDir - (T(2) * hlsl::dot(normal, lightDir)) * normal;
+        const T rDotV = hlsl::max(T(0), hlsl::dot(r, viewDir));
+        const T specular = kFast ? fastmath::pow(rDotV, specularPower) : detPow(rDotV, specularPower);
         litDiffuse += lightContrib * nDotL;
         litSpecular += lightContrib * specular;
     }
 }
 
 // lit += albedo * (litDiffuse + specularAmount * litSpecular) for one light direction.
-void intelAccumulate(const glm::vec3& normalView, const glm::vec3& lightDir, const glm::vec3& viewDir,
-                     const glm::vec3& contrib, const glm::vec3& albedo, float specularAmount, float specularPower,
-                     glm::vec3& lit) {
-    glm::vec3 litDiffuse(0.0f), litSpecular(0.0f);
-    intelPhong(normalView, lightDir, viewDir, contrib, specularPower, litDiffuse, litSpecular);
+template <class T, bool kFast = false>
+void intelAccumulate(const Vec3<T>& normalView, const Vec3<T>& lightDir, const Vec3<T>& viewDir, const Vec3<T>& contrib,
+                     const Vec3<T>& albedo, T specularAmount, T specularPower, Vec3<T>& lit) {
+    Vec3<T> litDiffuse(T(0)), litSpecular(T(0));
+    intelPhong<T, kFast>(normalView, lightDir, viewDir, contrib, specularPower, litDiffuse, litSpecular);
     lit += albedo * (litDiffuse + specularAmount * litSpecular);
 }
 
-glm::vec3 normalize3(const glm::vec3& v) { return v / std::sqrt(hlsl::dot(v, v)); }
+template <class T>
+Vec3<T> normalize3(const Vec3<T>& v) {
+    return v / std::sqrt(hlsl::dot(v, v));
+}
+
+// AccumulateBRDF's point-light body (public float version: intelAccumulateBrdf).
+template <class T, bool kFast = false>
+void accumulateBrdf(const Vec3<T>& posView, const Vec3<T>& normalView, const Vec3<T>& albedo, T specularAmount,
+                    T specularPower, const IntelPointLight& light, Vec3<T>& lit) {
+    const Vec3<T> lightPos(light.positionView);
+    Vec3<T> directionToLight = lightPos - posView;
+    const T distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+    if (distanceToLight < T(light.attenuationEnd)) {
+        const T attenuation = linstep(T(light.attenuationEnd), T(light.attenuationBegin), distanceToLight);
+        directionToLight *= T(1) / distanceToLight;  // rcp: correctly rounded here
+        intelAccumulate<T, kFast>(normalView, directionToLight, normalize3(posView), attenuation * Vec3<T>(light.color), albedo,
+                                  specularAmount, specularPower, lit);
+    }
+}
 
 } // namespace
 
 void intelAccumulateBrdf(const glm::vec3& posView, const glm::vec3& normalView, const glm::vec3& albedo,
                          float specularAmount, float specularPower, const IntelPointLight& light, glm::vec3& lit) {
-    glm::vec3 directionToLight = light.positionView - posView;
-    const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
-    if (distanceToLight < light.attenuationEnd) {
-        const float attenuation = intelLinstep(light.attenuationEnd, light.attenuationBegin, distanceToLight);
-        directionToLight *= 1.0f / distanceToLight;  // rcp: correctly rounded here
-        intelAccumulate(normalView, directionToLight, normalize3(posView), attenuation * light.color, albedo, specularAmount,
-                        specularPower, lit);
-    }
+    accumulateBrdf<float>(posView, normalView, albedo, specularAmount, specularPower, light, lit);
 }
 
 glm::vec3 positionViewFromDepthIntel(std::uint32_t pxX, std::uint32_t pxY, float zBuffer, glm::uvec2 framebufferPx,
@@ -185,6 +204,7 @@ struct TiledSetup {
     DepthImageView depthView;
     TargetReader accumulation, diffuse, specular, normal, position;
     Surface* back = nullptr;
+    Surface* reference = nullptr;  // precision reference: the float copy of the back buffer
     Surface* lit = nullptr;
     Surface* heat = nullptr;
     // Per tile (row-major), each written by its own group only:
@@ -195,78 +215,95 @@ struct TiledSetup {
 
 // Pixel (x, y) of the tile: 3dgep's DoLighting over the tile's lights and forward's final
 // expression (deferred.h ComposePS), where the G-buffer has geometry.
-void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<float>> lights, std::uint32_t x, std::uint32_t y) {
+template <class T, bool kFast>
+void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<T>> lights, std::uint32_t x, std::uint32_t y) {
     const float zBuffer = s.depthView.load(x, y);
     if (!(zBuffer < 1.0f)) return;  // the cleared depth: no geometry, the clear colour stays
     const TiledOptions& o = s.options;
-    glm::vec4 posView;
+    glm::vec4 posViewStored;
     if (o.positionFromGBuffer) {
-        posView = s.position.load(x, y);
+        posViewStored = s.position.load(x, y);
     } else {
         const glm::vec3 lh = positionViewFromDepthIntel(x, y, zBuffer, {s.width, s.height}, s.projectionLh);
-        posView = glm::vec4(lh.x, lh.y, -lh.z, 1.0f);
+        posViewStored = glm::vec4(lh.x, lh.y, -lh.z, 1.0f);
     }
-    const glm::vec4 normalView = s.normal.load(x, y);
+    const Vec4<T> posView(posViewStored);
+    const Vec4<T> normalView(s.normal.load(x, y));
     const glm::vec4 specularStored = s.specular.load(x, y);
-    const float specularPower = o.floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w);
-    const LightingResult<float> lit = doLighting(lights, specularPower, posView, normalView, specularPower > 1.0f);
-    const glm::vec4 ambientEmissive = s.accumulation.load(x, y);
-    glm::vec4 diffuse = s.diffuse.load(x, y);
-    diffuse *= glm::vec4(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, 1.0f);
-    glm::vec4 specular(0.0f);
-    if (specularPower > 1.0f) specular = glm::vec4(specularStored.x, specularStored.y, specularStored.z, 0.0f) * lit.specular;
-    const glm::vec4 sum = (ambientEmissive + diffuse) + specular;
-    storeUnorm8(*s.back, x, y, glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w));
+    const T specularPower = T(o.floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w));
+    const LightingResult<T> lit = doLighting<T, kFast>(lights, specularPower, posView, normalView, specularPower > T(1));
+    const Vec4<T> ambientEmissive(s.accumulation.load(x, y));
+    Vec4<T> diffuse(s.diffuse.load(x, y));
+    diffuse *= Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));
+    Vec4<T> specular(T(0));
+    if (specularPower > T(1)) specular = Vec4<T>(T(specularStored.x), T(specularStored.y), T(specularStored.z), T(0)) * lit.specular;
+    const Vec4<T> sum = (ambientEmissive + diffuse) + specular;
+    const glm::vec4 color(float(sum.x), float(sum.y), float(sum.z), float(ambientEmissive.w));
+    storeUnorm8(*s.back, x, y, color);
+    if (s.reference) s.reference->store(x, y, 0, convert::clampUnorm(color));
 }
 
 // Pixel (x, y): Intel's per-pixel body of ComputeShaderTileCS (MSAA 1): SurfaceData from the
 // G-buffer, AccumulateBRDF over the tile's list, WriteSample(float4(lit, 1)) or 0 with no lights.
+// T = double (reference): the same from the G-buffer's float values; the reference buffer gets
+// what the present pass makes of it without the half-float "lit" and the 8-bit rounding.
+template <class T, bool kFast>
 void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y) {
+    const bool sky = !(s.depthView.load(x, y) < 1.0f);  // the present pass keeps the clear colour there
     if (list.empty()) {
         s.lit->store(x, y, 0, glm::vec4(0.0f));
+        if (s.reference && !sky) s.reference->store(x, y, 0, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
         return;
     }
     const TiledOptions& o = s.options;
-    glm::vec3 posViewLh;
+    glm::vec3 posViewLhStored;
     if (o.positionFromGBuffer) {
         const glm::vec4 p = s.position.load(x, y);
-        posViewLh = glm::vec3(p.x, p.y, -p.z);
+        posViewLhStored = glm::vec3(p.x, p.y, -p.z);
     } else {
-        posViewLh = positionViewFromDepthIntel(x, y, s.depthView.load(x, y), {s.width, s.height}, s.projectionLh);
+        posViewLhStored = positionViewFromDepthIntel(x, y, s.depthView.load(x, y), {s.width, s.height}, s.projectionLh);
     }
+    const Vec3<T> posViewLh(posViewLhStored);
     const glm::vec4 n = s.normal.load(x, y);
-    glm::vec3 normalLh(n.x, n.y, -n.z);
-    if (o.spheremap) normalLh = intelSpheremapRoundTrip(normalLh);
-    const glm::vec3 albedo(s.diffuse.load(x, y));
-    glm::vec3 lit(0.0f);
+    glm::vec3 normalLhStored(n.x, n.y, -n.z);
+    if (o.spheremap) normalLhStored = intelSpheremapRoundTrip(normalLhStored);
+    const Vec3<T> normalLh(normalLhStored);
+    const Vec3<T> albedo(glm::vec3(s.diffuse.load(x, y)));
+    const T specularAmount(kIntelSpecularAmount), specularPower(kIntelSpecularPower);
+    Vec3<T> lit(T(0));
     for (const std::uint32_t index : list) {
         const IntelLight& light = s.intelLights[index];
+        const Vec3<T> color(light.point.color);
         if (light.directional) {
-            intelAccumulate(normalLh, light.lightDirLh, normalize3(posViewLh), light.point.color, albedo, kIntelSpecularAmount,
-                            kIntelSpecularPower, lit);
+            intelAccumulate<T, kFast>(normalLh, Vec3<T>(light.lightDirLh), normalize3(posViewLh), color, albedo, specularAmount,
+                                      specularPower, lit);
         } else if (light.infinite) {
-            glm::vec3 directionToLight = light.point.positionView - posViewLh;
-            const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
-            directionToLight *= 1.0f / distanceToLight;
-            intelAccumulate(normalLh, directionToLight, normalize3(posViewLh), light.point.color, albedo, kIntelSpecularAmount,
-                            kIntelSpecularPower, lit);
+            Vec3<T> directionToLight = Vec3<T>(light.point.positionView) - posViewLh;
+            const T distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+            directionToLight *= T(1) / distanceToLight;
+            intelAccumulate<T, kFast>(normalLh, directionToLight, normalize3(posViewLh), color, albedo, specularAmount,
+                                      specularPower, lit);
         } else if (light.spot) {
             // AccumulateBRDF with the contribution scaled by the scene's cone (tessera: Intel has no
             // spot lights); DoSpotCone reads the right-handed -L, the flip of the left-handed one.
-            glm::vec3 directionToLight = light.point.positionView - posViewLh;
-            const float distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
-            if (distanceToLight < light.point.attenuationEnd) {
-                const float attenuation = intelLinstep(light.point.attenuationEnd, light.point.attenuationBegin, distanceToLight);
-                directionToLight *= 1.0f / distanceToLight;
-                const float cone = doSpotCone(*light.spot, glm::vec4(directionToLight.x, directionToLight.y, -directionToLight.z, 0.0f));
-                intelAccumulate(normalLh, directionToLight, normalize3(posViewLh), attenuation * light.point.color * cone, albedo,
-                                kIntelSpecularAmount, kIntelSpecularPower, lit);
+            Vec3<T> directionToLight = Vec3<T>(light.point.positionView) - posViewLh;
+            const T distanceToLight = std::sqrt(hlsl::dot(directionToLight, directionToLight));
+            if (distanceToLight < T(light.point.attenuationEnd)) {
+                const T attenuation = linstep(T(light.point.attenuationEnd), T(light.point.attenuationBegin), distanceToLight);
+                directionToLight *= T(1) / distanceToLight;
+                ViewLight<T> spot;
+                spot.directionView = Vec4<T>(light.spot->directionView);
+                spot.spotlightAngleDeg = T(light.spot->spotlightAngleDeg);
+                const T cone = doSpotCone<T, kFast>(spot, Vec4<T>(directionToLight.x, directionToLight.y, -directionToLight.z, T(0)));
+                intelAccumulate<T, kFast>(normalLh, directionToLight, normalize3(posViewLh), attenuation * color * cone, albedo,
+                                          specularAmount, specularPower, lit);
             }
         } else {
-            intelAccumulateBrdf(posViewLh, normalLh, albedo, kIntelSpecularAmount, kIntelSpecularPower, light.point, lit);
+            accumulateBrdf<T, kFast>(posViewLh, normalLh, albedo, specularAmount, specularPower, light.point, lit);
         }
     }
-    s.lit->store(x, y, 0, glm::vec4(lit, 1.0f));
+    s.lit->store(x, y, 0, glm::vec4(glm::vec3(lit), 1.0f));
+    if (s.reference && !sky) s.reference->store(x, y, 0, convert::clampUnorm(glm::vec4(glm::vec3(lit), 1.0f)));
 }
 
 // ComputeShaderTileCS, one group per tile of kDim x kDim pixels (one thread each).
@@ -312,18 +349,29 @@ struct TileKernel {
         });
         f.appended[tile] = sh.numLights;
 
+        const Precision precision = f.forward->precision;
         thread_local std::vector<ViewLight<float>> gathered;
+        thread_local std::vector<ViewLight<double>> gatheredReference;
         if (f.options.shading == Shading::Dgep) {
             gathered.clear();
-            for (const std::uint32_t index : list) gathered.push_back(f.forward->lightsExact[index]);
+            gatheredReference.clear();
+            for (const std::uint32_t index : list) {
+                if (precision == Precision::Reference) gatheredReference.push_back(f.forward->lightsReference[index]);
+                else gathered.push_back(f.forward->lightsExact[index]);
+            }
         }
         const glm::vec4 heat(float(sh.numLights) / 255.0f);  // visualizeLightCount
         g.forEachThread([&](const compute::ThreadIds& t) {
             const std::uint32_t x = t.dispatchThreadId.x, y = t.dispatchThreadId.y;
             if (x >= f.width || y >= f.height) return;  // only onscreen pixels
             storeUnorm8(*f.heat, x, y, heat);
-            if (f.options.shading == Shading::Dgep) shadePixelDgep(f, gathered, x, y);
-            else shadePixelIntel(f, list, x, y);
+            if (f.options.shading == Shading::Intel) {
+                if (precision == Precision::Reference) shadePixelIntel<double, false>(f, list, x, y);
+                else if (precision == Precision::Fast) shadePixelIntel<float, true>(f, list, x, y);
+                else shadePixelIntel<float, false>(f, list, x, y);
+            } else if (precision == Precision::Reference) shadePixelDgep<double, false>(f, gatheredReference, x, y);
+            else if (precision == Precision::Fast) shadePixelDgep<float, true>(f, gathered, x, y);
+            else shadePixelDgep<float, false>(f, gathered, x, y);
         });
     }
 };
@@ -340,11 +388,11 @@ void dispatchTiles(TiledSetup& s, Device& device) {
 
 Frame buildTiledDeferred(const TechniqueContext& ctx) {
     const std::string file = ctx.errorFile();
-    requirePrecision(ctx, "tiled-deferred");
     if (ctx.camera.projection == ProjectionKind::Orthographic)
         throw inputError(file, "/camera", "tiled-deferred needs a perspective camera (Intel's tile planes and view-z reconstruction)");
     auto setup = std::make_shared<TiledSetup>();
     setup->options = parseOptions(ctx.options, file);
+    if (ctx.precision == Precision::Reference) setup->options.floatTargets = true;  // reference keeps the G-buffer unquantized
     const TiledOptions& opt = setup->options;
     setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);
     setup->width = ctx.width;
@@ -373,7 +421,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
         il.infinite = !il.directional && !std::isfinite(v.range);
         if (v.type == LightType::Spot && !il.infinite) il.spot = &v;
         if (il.directional) {
-            const glm::vec3 toLight = normalize3(glm::vec3(-v.directionView.x, -v.directionView.y, -v.directionView.z));
+            const glm::vec3 toLight = normalize3<float>(glm::vec3(-v.directionView.x, -v.directionView.y, -v.directionView.z));
             il.lightDirLh = glm::vec3(toLight.x, toLight.y, -toLight.z);
         }
         c.posViewLh = il.point.positionView;
@@ -390,6 +438,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     if (opt.positionFromGBuffer) gbufferTargets.emplace_back("gbuffer.position");
     std::vector<std::string> created = gbufferTargets;
     created.push_back(back);
+    if (ctx.precision == Precision::Reference) created.emplace_back(kReferenceBufferName);
     created.emplace_back("depth");
     created.emplace_back("heatmap");
     if (opt.shading == Shading::Intel) created.emplace_back("lit");
@@ -400,6 +449,8 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
                    const std::uint32_t w = setup->width, h = setup->height;
                    // the demo's clear, also tessera's stand-in for Intel's sky box
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   if (setup->forward->precision == Precision::Reference)
+                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
                    reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
                    reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
                    reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
@@ -435,6 +486,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     tileReads.emplace_back("depth");
     std::vector<std::string> tileWrites{"heatmap", "tiles.grid", "tiles.lightCount", "tiles.lightIndices", "tiles.depthRange"};
     tileWrites.push_back(opt.shading == Shading::Intel ? std::string("lit") : back);
+    if (ctx.precision == Precision::Reference) tileWrites.emplace_back(kReferenceBufferName);
     frame.add({"tiles", tileReads, tileWrites, [setup, device](BufferRegistry& reg) {
                    TiledSetup& s = *setup;
                    const Surface& depth = reg.get("depth");
@@ -448,6 +500,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
                    s.normal = TargetReader(reg.get("gbuffer.normal"));
                    if (s.options.positionFromGBuffer) s.position = TargetReader(reg.get("gbuffer.position"));
                    s.back = &reg.get(kBackBufferName);
+                   s.reference = s.forward->precision == Precision::Reference ? &reg.get(kReferenceBufferName) : nullptr;
                    s.heat = &reg.get("heatmap");
                    s.lit = s.options.shading == Shading::Intel ? &reg.get("lit") : nullptr;
                    switch (s.options.tileSize) {
@@ -500,9 +553,11 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
 
     // Transparent geometry: Intel's sample has none; tessera draws it as deferred does, with
     // forward's TransparentPass (3dgep shading, every light) over the image and the G-buffer depth.
-    frame.add({"transparent", {back, "depth"}, {back}, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
+               [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get(kBackBufferName);
+                   if (setup->forward->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
                    rt.depthStencil = &reg.get("depth");
                    drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
                }});

@@ -41,8 +41,9 @@ public:
     }
 
     // A technique context for this scene on `device` with `options`.
-    TechniqueContext context(Device& device, const nlohmann::json& options) const {
+    TechniqueContext context(Device& device, const nlohmann::json& options, Precision precision = Precision::Exact) const {
         TechniqueContext ctx;
+        ctx.precision = precision;
         ctx.device = &device;
         ctx.resources = resources_.get();
         ctx.camera = camera_;
@@ -56,11 +57,13 @@ public:
     // The technique's frame run once. `options`: the scene file's options when the technique is
     // the file's own, else none, unless given.
     BufferRegistry render(const std::string& technique, std::uint32_t threads,
-                          const nlohmann::json* options = nullptr, DrawStats* stats = nullptr) const {
+                          const nlohmann::json* options = nullptr, DrawStats* stats = nullptr,
+                          Precision precision = Precision::Exact) const {
         Device device(DeviceConfig{64, threads});
         DrawStats localStats;
         TechniqueContext ctx = context(
-            device, options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object());
+            device, options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object(),
+            precision);
         ctx.stats = stats ? stats : &localStats;
         BufferRegistry registry;
         buildTechnique(technique, ctx, desc_.file.string()).run(registry);

@@ -236,14 +236,17 @@ TEST_CASE("deferred-killzone: the threshold skips lights with few samples, sampl
     CHECK(none.variants["light:directional"] == 1);
 }
 
-TEST_CASE("deferred: option values and precision are InputErrors naming the key path") {
+TEST_CASE("deferred: option values are InputErrors naming the key path, and every precision is accepted") {
     CHECK(errorOf("deferred", {{"reconstruct", "middle"}}).find("memory.json: /options/reconstruct: 'middle' is not one of corner, centre") !=
           std::string::npos);
     CHECK(errorOf("deferred", {{"gbuffer", 1}}).find("/options/gbuffer") != std::string::npos);
     CHECK(errorOf("deferred", {{"threshold", 3}}).find("/options/threshold") != std::string::npos);  // killzone only
     CHECK(errorOf("deferred-killzone", {{"threshold", -1}}).find("/options/threshold") != std::string::npos);
     CHECK(errorOf("deferred-killzone", {{"threshold", 1.5}}).find("/options/threshold") != std::string::npos);
-    CHECK(errorOf("deferred", nlohmann::json::object(), Precision::Reference).find("/precision") != std::string::npos);
+    for (const Precision p : {Precision::Reference, Precision::Fast}) {
+        CHECK(errorOf("deferred", nlohmann::json::object(), p).empty());
+        CHECK(errorOf("deferred-killzone", nlohmann::json::object(), p).empty());
+    }
     CHECK(errorOf("deferred", {{"lightVolumes", "circumscribed"}, {"volumeRotation", "robust"}}).empty());
 }
 

@@ -95,13 +95,14 @@ TEST_CASE("forward: the demo-gl depth buffer holds GL NDC z, the d3d one D3D dep
           doctest::Approx(-2.0f * 1000.0f * 0.1f / 999.9f));
 }
 
-TEST_CASE("forward: option values and precision fast are InputErrors naming the key path") {
+TEST_CASE("forward: option values are InputErrors naming the key path, and every precision is accepted") {
     CHECK(errorOf({{"projection", "vulkan"}}).find("memory.json: /options/projection: 'vulkan' is not one of demo-gl, d3d") !=
           std::string::npos);
     CHECK(errorOf({{"alphaTest", "yes"}}).find("/options/alphaTest") != std::string::npos);
     CHECK(errorOf({{"sampler", 3}}).find("/options/sampler") != std::string::npos);
     CHECK(errorOf({{"shadows", true}}).find("/options/shadows") != std::string::npos);
-    CHECK(errorOf(nlohmann::json::object(), Precision::Fast).find("/precision") != std::string::npos);
+    CHECK(errorOf(nlohmann::json::object(), Precision::Fast).empty());
+    CHECK(errorOf(nlohmann::json::object(), Precision::Reference).empty());
 }
 
 TEST_CASE("forward: variants are counted per draw, reference adds backbuffer.reference") {

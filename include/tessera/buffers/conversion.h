@@ -6,6 +6,8 @@
 
 #include <cstdint>
 
+#include <glm/glm.hpp>
+
 namespace tessera::convert {
 
 // ---- Normalized integers (§3.2.3 "Integer Conversion") ------------------------------------
@@ -76,5 +78,13 @@ float srgb8ToLinear(std::uint8_t code);
 // D24 depth is a 24-bit UNORM (§3.2.3.5 / §3.2.3.6) in bits 0..23 of the texel.
 inline std::uint32_t depthToD24(float z) { return floatToUnorm(z, 24); }
 inline float d24ToDepth(std::uint32_t code) { return unormToFloat(code & 0xFFFFFFu, 24); }
+
+// The UNORM conversion's clamp (D3D11.3 §3.2.3.6) without the rounding: NaN -> 0, then
+// [0, 1]. What precision reference's float copy of an UNORM target holds.
+inline glm::vec4 clampUnorm(const glm::vec4& v) {
+    glm::vec4 out;
+    for (int c = 0; c < 4; ++c) out[c] = v[c] > 0.0f ? (v[c] < 1.0f ? v[c] : 1.0f) : 0.0f;
+    return out;
+}
 
 } // namespace tessera::convert

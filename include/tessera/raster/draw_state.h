@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include <tessera/buffers/surface.h>
+#include <tessera/scene/precision.h>
 #include <tessera/state/blend_state.h>
 #include <tessera/state/depth_stencil_state.h>
 #include <tessera/state/rasterizer_state.h>
@@ -21,6 +22,10 @@ struct DrawState {
     std::array<float, 4> blendFactor{1, 1, 1, 1};        // OMSetBlendState BlendFactor
     Viewport viewport;                                   // RSSetViewports (one viewport)
     ScissorRect scissor;                                 // used when rasterizer.scissorEnable
+    // Exact and Reference: the D3D11 rules bit for bit (coverage, barycentrics rounded once from
+    // double, the UNORM encode of D3D11.3 §3.2.3.6). Fast: barycentrics and the RGBA8 encode in
+    // float (coverage, depth/stencil and blending are unchanged); error measured in tests/precision.
+    Precision precision = Precision::Exact;
 };
 
 // OMSetRenderTargets: up to 8 colour targets (null = unbound) and one depth-stencil buffer.

@@ -90,6 +90,27 @@ constexpr T radians(T degrees) {
 
 } // namespace hlsl
 
+// The `fast` precision mode's approximations of the intrinsics above (precision.h): float
+// throughout, the C library's powf/cosf instead of the deterministic detPow/detCos, normalize as
+// one reciprocal square root and a multiply. Their error against `reference` is measured by
+// tests/precision, never assumed; kFast = false selects the exact forms everywhere below.
+namespace fastmath {
+inline float pow(float x, float y) {
+    // HLSL pow(x, y) for the x >= 0 the lighting passes; powf(0, y > 0) = 0 as HLSL's table says.
+    return std::pow(x, y);
+}
+inline double pow(double x, double y) { return detPow(x, y); }
+template <class T>
+Vec4<T> normalize(const Vec4<T>& v) {
+    const T inv = T(1) / std::sqrt(hlsl::dot(v, v));
+    return v * inv;
+}
+template <class T>
+T cos(T x) {
+    return std::cos(x);
+}
+} // namespace fastmath
+
 // The article's Light struct in view space (seed 000 §2; 112 bytes there, a plain value here).
 // positionView = View * (positionWorld, 1); directionView = normalize(View * (directionWorld, 0)).
 template <class T>
@@ -118,12 +139,13 @@ Vec4<T> doDiffuse(const ViewLight<T>& light, const Vec4<T>& lightDirView, const 
 }
 
 // DoSpecular (Phong, not Blinn-Phong): R = normalize(reflect(-L, N)); Color * pow(max(R.V, 0), p).
-template <class T>
+template <class T, bool kFast = false>
 Vec4<T> doSpecular(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView, const Vec4<T>& lightDirView,
                    const Vec4<T>& normalView) {
-    const Vec4<T> reflected = hlsl::normalize(hlsl::reflect(hlsl::neg(lightDirView), normalView));
+    const Vec4<T> r = hlsl::reflect(hlsl::neg(lightDirView), normalView);
+    const Vec4<T> reflected = kFast ? fastmath::normalize(r) : hlsl::normalize(r);
     const T rDotV = hlsl::max(hlsl::dot(reflected, viewDirView), T(0));
-    return light.color * detPow(rDotV, specularPower);
+    return light.color * (kFast ? fastmath::pow(rDotV, specularPower) : detPow(rDotV, specularPower));
 }
 
 // DoAttenuation: 1 - smoothstep(0.75 Range, Range, d): 1 below 0.75 Range, 0 from Range on.
@@ -134,16 +156,16 @@ T doAttenuation(const ViewLight<T>& light, T distance) {
 
 // DoSpotCone: minCos = cos(radians(angle)); maxCos = lerp(minCos, 1, 0.5);
 // smoothstep(minCos, maxCos, dot(DirectionVS, -L)).
-template <class T>
+template <class T, bool kFast = false>
 T doSpotCone(const ViewLight<T>& light, const Vec4<T>& lightDirView) {
-    const T minCos = detCos(hlsl::radians(light.spotlightAngleDeg));
+    const T minCos = kFast ? fastmath::cos(hlsl::radians(light.spotlightAngleDeg)) : detCos(hlsl::radians(light.spotlightAngleDeg));
     const T maxCos = hlsl::lerp(minCos, T(1), T(0.5));
     const T cosAngle = hlsl::dot(light.directionView, hlsl::neg(lightDirView));
     return hlsl::smoothstep(minCos, maxCos, cosAngle);
 }
 
 // DoPointLight: L = PositionVS - P; d = length(L); L /= d; x attenuation x Intensity.
-template <class T>
+template <class T, bool kFast = false>
 LightingResult<T> doPointLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
                                const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
     Vec4<T> lightDir = light.positionView - posView;
@@ -153,51 +175,51 @@ LightingResult<T> doPointLight(const ViewLight<T>& light, T specularPower, const
     LightingResult<T> result;
     result.diffuse = doDiffuse(light, lightDir, normalView) * attenuation * light.intensity;
     if (withSpecular)
-        result.specular = doSpecular(light, specularPower, viewDirView, lightDir, normalView) * attenuation * light.intensity;
+        result.specular = doSpecular<T, kFast>(light, specularPower, viewDirView, lightDir, normalView) * attenuation * light.intensity;
     return result;
 }
 
 // DoSpotLight: as the point light, x spotIntensity between attenuation and Intensity.
-template <class T>
+template <class T, bool kFast = false>
 LightingResult<T> doSpotLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
                               const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
     Vec4<T> lightDir = light.positionView - posView;
     const T distance = hlsl::length(lightDir);
     lightDir = lightDir / distance;
     const T attenuation = doAttenuation(light, distance);
-    const T spotIntensity = doSpotCone(light, lightDir);
+    const T spotIntensity = doSpotCone<T, kFast>(light, lightDir);
     LightingResult<T> result;
     result.diffuse = doDiffuse(light, lightDir, normalView) * attenuation * spotIntensity * light.intensity;
     if (withSpecular)
         result.specular =
-            doSpecular(light, specularPower, viewDirView, lightDir, normalView) * attenuation * spotIntensity * light.intensity;
+            doSpecular<T, kFast>(light, specularPower, viewDirView, lightDir, normalView) * attenuation * spotIntensity * light.intensity;
     return result;
 }
 
 // DoDirectionalLight: L = normalize(-DirectionVS); x Intensity.
-template <class T>
+template <class T, bool kFast = false>
 LightingResult<T> doDirectionalLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
                                      const Vec4<T>& normalView, bool withSpecular = true) {
-    const Vec4<T> lightDir = hlsl::normalize(hlsl::neg(light.directionView));
+    const Vec4<T> lightDir = kFast ? fastmath::normalize(hlsl::neg(light.directionView)) : hlsl::normalize(hlsl::neg(light.directionView));
     LightingResult<T> result;
     result.diffuse = doDiffuse(light, lightDir, normalView) * light.intensity;
-    if (withSpecular) result.specular = doSpecular(light, specularPower, viewDirView, lightDir, normalView) * light.intensity;
+    if (withSpecular) result.specular = doSpecular<T, kFast>(light, specularPower, viewDirView, lightDir, normalView) * light.intensity;
     return result;
 }
 
 // One light of DoLighting's loop: skips a disabled light and a non-directional light with
 // length(PositionVS - P) > Range (strict: a pixel exactly at Range is shaded, and gets
 // attenuation 0), otherwise adds its Diffuse and Specular to `total`.
-template <class T>
+template <class T, bool kFast = false>
 void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
                      const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular) {
     if (!light.enabled) return;
     if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) return;
     LightingResult<T> result;
     switch (light.type) {
-    case LightType::Directional: result = doDirectionalLight(light, specularPower, viewDirView, normalView, withSpecular); break;
-    case LightType::Point: result = doPointLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
-    case LightType::Spot: result = doSpotLight(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+    case LightType::Directional: result = doDirectionalLight<T, kFast>(light, specularPower, viewDirView, normalView, withSpecular); break;
+    case LightType::Point: result = doPointLight<T, kFast>(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+    case LightType::Spot: result = doSpotLight<T, kFast>(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
     }
     total.diffuse += result.diffuse;
     total.specular += result.specular;
@@ -207,13 +229,13 @@ void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T spec
 // accumulateLight (the skips above). Sums Diffuse and Specular in light order.
 // withSpecular = false leaves Specular at 0 without evaluating it: the pixel shaders pass
 // SpecularPower > 1, since they ignore lit.Specular otherwise (the image is the same bits).
-template <class T>
+template <class T, bool kFast = false>
 LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPower, const Vec4<T>& posView,
                              const Vec4<T>& normalView, bool withSpecular = true) {
     const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
     const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
     LightingResult<T> total;
-    for (const ViewLight<T>& light : lights) accumulateLight(total, light, specularPower, viewDirView, posView, normalView, withSpecular);
+    for (const ViewLight<T>& light : lights) accumulateLight<T, kFast>(total, light, specularPower, viewDirView, posView, normalView, withSpecular);
     return total;
 }
 
@@ -225,7 +247,7 @@ LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPow
 // ascending light index and every light it omits is skipped by doLighting or adds exactly +-0
 // there (x + 0 == x, and the sums start at +0 so never hold -0), the result equals doLighting's
 // bit for bit (the Forward+ == forward invariant, tests/golden/forward_plus_scenes_test.cpp).
-template <class T, class IndexFn>
+template <class T, bool kFast = false, class IndexFn>
 LightingResult<T> doLightingListed(std::span<const ViewLight<T>> lights, std::uint32_t lightCount, IndexFn&& lightIndexAt,
                                    T specularPower, const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular = true) {
     const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
@@ -234,7 +256,7 @@ LightingResult<T> doLightingListed(std::span<const ViewLight<T>> lights, std::ui
     for (std::uint32_t i = 0; i < lightCount; ++i) {
         const std::uint32_t index = lightIndexAt(i);
         if (index >= lights.size()) continue;
-        accumulateLight(total, lights[index], specularPower, viewDirView, posView, normalView, withSpecular);
+        accumulateLight<T, kFast>(total, lights[index], specularPower, viewDirView, posView, normalView, withSpecular);
     }
     return total;
 }

@@ -14,6 +14,8 @@
 
 #include <glm/glm.hpp>
 
+#include <tessera/buffers/conversion.h>
+
 #include <tessera/scene/phong_material.h>
 #include <tessera/scene/scene.h>
 #include <tessera/shaders/shader_stages.h>
@@ -150,9 +152,11 @@ using PhongShadeFn = bool (*)(const PhongShaderData<T>&, const PixelInput<PhongV
 
 struct PhongVariant {
     PhongShadeFn<float> exact = nullptr;    // set for T = float
+    PhongShadeFn<float> fast = nullptr;     // set for T = float: the same variant with fastmath (phong_lighting.h)
     PhongShadeFn<double> reference = nullptr;  // set for T = double
     bool mayDiscard = false;
     std::string name;                       // "exact:diffuse+normal", "exact:generic(specular+bump)", ...
+    std::string fastName;                   // "fast:diffuse+normal", ... (T = float)
 };
 
 // The variant a material with `features` runs at precision T (float or double).
@@ -179,7 +183,10 @@ struct PhongPS {
             out.discard();
             return;
         }
-        for (int t = 0; t < kTargets; ++t) out.target[std::size_t(t)] = glm::vec4(color);
+        out.target[0] = glm::vec4(color);
+        // The float copy of precision reference holds what the UNORM back buffer holds before
+        // its 8-bit rounding: the output merger's clamp to [0, 1] (NaN -> 0) applied here.
+        if constexpr (kTargets == 2) out.target[1] = convert::clampUnorm(glm::vec4(color));
     }
 };
 

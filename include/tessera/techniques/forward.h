@@ -36,7 +36,8 @@ inline constexpr std::array<std::string_view, 3> kForwardOptionKeys{"projection"
 // Buffers: "backbuffer" R8G8B8A8_UNORM (the demo's gamma-space values, no sRGB encode),
 // "depth" D24_UNORM_S8_UINT; with precision reference also "backbuffer.reference"
 // R32G32B32A32_FLOAT (the double shading rounded once to float, not quantized to 8 bits).
-// Precision fast is an InputError naming "/precision".
+// Precision fast: the fastmath lighting (phong_lighting.h) and the raster's fast path
+// (DrawState::precision); the buffers are exact's.
 Frame buildForward(const TechniqueContext& context);
 
 enum class ProjectionConvention { DemoGl, D3d };
@@ -74,7 +75,7 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
 // light loop (the pass's tile list instead of every light). The defaults are forward's.
 struct ForwardPassOverrides {
     ComparisonFunc depthFunc = ComparisonFunc::Less;
-    const TileLightList* tileLights = nullptr;  // exact precision only
+    const TileLightList* tileLights = nullptr;  // every precision (reference shades the listed lights in double)
 };
 
 // The demo's OpaquePass (g_pOpaquePipeline: depth LESS with writes, cull back; glTF doubleSided

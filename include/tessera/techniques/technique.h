@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -34,9 +35,6 @@ struct TechniqueContext {
     std::string errorFile() const { return sceneFile.empty() ? std::string("scene") : sceneFile; }
 };
 
-// Throws InputError(errorFile(), "/precision", ...) unless ctx.precision is one `technique`
-// implements: Exact always, Reference where allowReference.
-void requirePrecision(const TechniqueContext& ctx, std::string_view technique, bool allowReference = false);
 
 struct TechniqueInfo {
     std::string_view id;
@@ -63,5 +61,12 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
 
 // The final image of every technique is the buffer named "backbuffer".
 inline constexpr std::string_view kBackBufferName = "backbuffer";
+// Precision reference: the back buffer's colour before quantization (R32G32B32A32_FLOAT, the
+// double shading rounded once to float, clamped to [0, 1] as the UNORM back buffer clamps),
+// written beside the back buffer by every technique.
+inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
+// `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
+// inserted after the back buffer when `precision` is Reference.
+std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision);
 
 } // namespace tessera

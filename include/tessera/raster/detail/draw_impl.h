@@ -146,10 +146,19 @@ struct QuadCentres {
     std::array<V, 4> varyings;
     Bary bary(int p) const { return Bary{{l[0][p], l[1][p], l[2][p]}}; }
 };
+// fast (DrawState::precision Fast): the barycentrics in float, float(E_i) * float(1 / area2),
+// about 2 ulp from the exact value instead of one rounding from double.
 template <Varyings V, bool kVaryings>
-inline void quadCentres(const SetupTriangle& t, const float* store, const std::int64_t (&ePix)[4][3], QuadCentres<V>& q) {
-    for (int i = 0; i < 3; ++i)
-        for (int p = 0; p < 4; ++p) q.l[i][p] = float(double(ePix[p][i]) * t.invArea2);
+inline void quadCentres(const SetupTriangle& t, const float* store, const std::int64_t (&ePix)[4][3], QuadCentres<V>& q,
+                        bool fast = false) {
+    if (fast) {
+        const float invArea2 = float(t.invArea2);
+        for (int i = 0; i < 3; ++i)
+            for (int p = 0; p < 4; ++p) q.l[i][p] = float(ePix[p][i]) * invArea2;
+    } else {
+        for (int i = 0; i < 3; ++i)
+            for (int p = 0; p < 4; ++p) q.l[i][p] = float(double(ePix[p][i]) * t.invArea2);
+    }
     const float dz1 = t.zWindow[1] - t.zWindow[0], dz2 = t.zWindow[2] - t.zWindow[0];
     for (int p = 0; p < 4; ++p) q.z[p] = t.zWindow[0] + q.l[1][p] * dz1 + q.l[2][p] * dz2;
     if constexpr (kVaryings) {
@@ -232,6 +241,7 @@ struct DrawContext {
     Surface* depthStencil;
     DepthStencilUnit ds;
     std::span<const SampleOffset> samples;
+    bool fast = false;  // DrawState::precision == Fast
 };
 
 // Rasterizes the tile's triangles in submission order. Edge functions are stepped, not
@@ -370,7 +380,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                         // Barycentrics, depth and varyings at the four pixel centres (helper pixels
                         // included, for derivatives).
                         QuadCentres<V> qc;
-                        quadCentres<V, kHasPs>(t, store, ePix, qc);
+                        quadCentres<V, kHasPs>(t, store, ePix, qc, dc.fast);
                         [[maybe_unused]] V ddx{}, ddy{};
                         if constexpr (kHasPs) {
                             ddx = subtract(qc.varyings[1], qc.varyings[0]);
@@ -451,10 +461,11 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                             Surface* target = dc.colors[std::size_t(rt)];
                                             if (!target) continue;
                                             const glm::vec4& src = out.target[std::size_t(rt)];
-                                            const bool fast = dc.rgba8Overwrite[std::size_t(rt)];
+                                            const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
                                             for (std::uint32_t s = 0; s < sampleCount; ++s) {
                                                 if (!(passMask & (1u << s))) continue;
-                                                if (fast) writeColorRgba8Unorm(target->texel(px, py, s), src);
+                                                if (overwrite && dc.fast) writeColorRgba8UnormFast(target->texel(px, py, s), src);
+                                                else if (overwrite) writeColorRgba8Unorm(target->texel(px, py, s), src);
                                                 else writeColorSample(target->format(), target->texel(px, py, s), src,
                                                                       dc.blend[std::size_t(rt)], dc.blendFactor);
                                             }
@@ -531,7 +542,7 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
 
         detail::DrawContext dc{&state, dt, targets.colors, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
-                               standardSamplePattern(dt.sampleCount)};
+                               standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast};
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
             dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
             dc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), dc.blend[rt]);
