@@ -262,6 +262,7 @@ std::vector<ViewLight<T>> viewLights(std::span<const Light> lights, const glm::m
         v.intensity = T(l.intensity);
         v.enabled = l.enabled;
         v.type = l.type;
+        cacheSpotCone(v);  // per-frame constants of DoSpotCone (same bits as per pixel)
         out.push_back(v);
     }
     return out;

@@ -294,6 +294,10 @@ void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, s
                 ViewLight<T> spot;
                 spot.directionView = Vec4<T>(light.spot->directionView);
                 spot.spotlightAngleDeg = T(light.spot->spotlightAngleDeg);
+                if constexpr (std::is_same_v<T, float>) {  // the per-frame cone constants (viewLights)
+                    spot.spotMinCos = light.spot->spotMinCos;
+                    spot.spotMaxCos = light.spot->spotMaxCos;
+                }
                 const T cone = doSpotCone<T, kFast>(spot, Vec4<T>(directionToLight.x, directionToLight.y, -directionToLight.z, T(0)));
                 intelAccumulate<T, kFast>(normalLh, directionToLight, normalize3(posViewLh), attenuation * color * cone, albedo,
                                           specularAmount, specularPower, lit);

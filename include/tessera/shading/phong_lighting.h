@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include <glm/glm.hpp>
@@ -123,7 +124,19 @@ struct ViewLight {
     T intensity = T(1);
     bool enabled = true;
     LightType type = LightType::Point;
+    // DoSpotCone's per-light constants, minCos = cos(radians(SpotlightAngle)) and maxCos =
+    // lerp(minCos, 1, 0.5), computed once per frame by cacheSpotCone with the same functions
+    // doSpotCone would call per pixel (so the same bits). NaN: not cached, computed per pixel.
+    T spotMinCos = std::numeric_limits<T>::quiet_NaN();
+    T spotMaxCos = std::numeric_limits<T>::quiet_NaN();
 };
+
+// Fills light's spotMinCos / spotMaxCos exactly as doSpotCone<T, false> computes them per pixel.
+template <class T>
+void cacheSpotCone(ViewLight<T>& light) {
+    light.spotMinCos = detCos(hlsl::radians(light.spotlightAngleDeg));
+    light.spotMaxCos = hlsl::lerp(light.spotMinCos, T(1), T(0.5));
+}
 
 template <class T>
 struct LightingResult {
@@ -158,8 +171,11 @@ T doAttenuation(const ViewLight<T>& light, T distance) {
 // smoothstep(minCos, maxCos, dot(DirectionVS, -L)).
 template <class T, bool kFast = false>
 T doSpotCone(const ViewLight<T>& light, const Vec4<T>& lightDirView) {
-    const T minCos = kFast ? fastmath::cos(hlsl::radians(light.spotlightAngleDeg)) : detCos(hlsl::radians(light.spotlightAngleDeg));
-    const T maxCos = hlsl::lerp(minCos, T(1), T(0.5));
+    T minCos = light.spotMinCos, maxCos = light.spotMaxCos;
+    if (minCos != minCos) {  // not cached (cacheSpotCone)
+        minCos = kFast ? fastmath::cos(hlsl::radians(light.spotlightAngleDeg)) : detCos(hlsl::radians(light.spotlightAngleDeg));
+        maxCos = hlsl::lerp(minCos, T(1), T(0.5));
+    }
     const T cosAngle = hlsl::dot(light.directionView, hlsl::neg(lightDirView));
     return hlsl::smoothstep(minCos, maxCos, cosAngle);
 }
