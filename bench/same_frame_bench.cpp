@@ -1,0 +1,519 @@
+// Same-frame benchmark: the bundled Sponza scenes through tessera and Mesa llvmpipe (GL 4.5 core,
+// ports in bench/same_frame/) with the same camera, lights, textures, draw order and states, per
+// technique and thread count: median ms per pass and frame, their ratio, and how llvmpipe's back
+// buffer (and depth, stencil, Forward+ light lists) differ from tessera's exact ones.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <tessera/io/image_writer.h>
+#include <tessera/scene/scene_file.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique.h>
+
+#include "bench_support.h"
+#include "same_frame/gl_context.h"
+#include "same_frame/gl_renderer.h"
+
+namespace {
+
+using namespace tessera;
+namespace fs = std::filesystem;
+using samefr::Technique;
+
+constexpr const char* kUsage = R"(usage: same_frame_bench [options]
+
+Renders the same Sponza frame through tessera (precision exact) and llvmpipe (GL 4.5 core) and
+prints, per technique and thread count, median ms per pass and per frame of both, the ratio
+llvmpipe / tessera (> 1: tessera is faster), and the difference of llvmpipe's back buffer from
+tessera's. Thread counts: TESSERA_BENCH_THREADS="1,2" (default; tessera's Device threads and
+llvmpipe's LP_NUM_THREADS alike).
+
+options:
+  --techniques LIST        forward,forward-plus,deferred (default: all three)
+  --iterations N           timed frames after one warm-up frame, 1..1000 (default 3)
+  --forward-lights N       sponza-large-lights light count for forward (default 64)
+  --forward-plus-lights N  sponza-small-lights light count for forward-plus (default 1024)
+  --deferred-lights N      sponza-small-lights light count for deferred (default 256)
+  --fp-culling MODE        tessera's forward-plus "culling" option: binned (default, tessera's
+                           row-parallel binning) or brute (the article's loop over every light
+                           per tile, as the GLSL port runs it); the light lists are identical
+  --sampler MODE           gl (default): llvmpipe's trilinear sampler; emulated: tessera's D3D11
+                           sampling rules written in GLSL over texelFetch (diagnostic: shows
+                           which image differences the sampler causes; its timings are not
+                           comparable)
+  --csv FILE               also write every row as CSV
+  --dump DIR               write <technique>-t<threads>-{tessera,llvmpipe,diff}.png into DIR
+  --help                   show this text
+)";
+
+struct Config {
+    std::string id;          // tessera's technique id
+    Technique technique;
+    std::string scene;       // bundled scene name
+    std::uint32_t lights;
+};
+
+struct Options {
+    std::vector<std::string> techniques{"forward", "forward-plus", "deferred"};
+    std::uint32_t iterations = 3;
+    std::uint32_t forwardLights = 64, forwardPlusLights = 1024, deferredLights = 256;
+    std::string csv, dumpDir;
+    bool emulatedSampling = false;
+    std::string forwardPlusCulling = "binned";
+};
+
+[[noreturn]] void usageError(const std::string& message) {
+    std::fprintf(stderr, "same_frame_bench: %s\n%s", message.c_str(), kUsage);
+    std::exit(2);
+}
+
+std::uint32_t parseCount(const std::string& flag, const std::string& text, std::uint32_t lo, std::uint32_t hi) {
+    const std::vector<std::uint32_t> v = bench::splitUints(flag, text);
+    if (v.size() != 1 || v[0] < lo || v[0] > hi)
+        usageError(flag + ": '" + text + "' is not a count in " + std::to_string(lo) + ".." + std::to_string(hi));
+    return v[0];
+}
+
+Options parseArgs(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const auto value = [&]() -> std::string {
+            if (i + 1 >= argc) usageError(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") {
+            std::fputs(kUsage, stdout);
+            std::exit(0);
+        } else if (a == "--techniques") {
+            o.techniques = bench::split(value(), ',');
+            for (const std::string& t : o.techniques)
+                if (t != "forward" && t != "forward-plus" && t != "deferred")
+                    usageError("--techniques: '" + t + "' is not forward, forward-plus or deferred");
+        } else if (a == "--iterations") o.iterations = parseCount(a, value(), 1, 1000);
+        else if (a == "--forward-lights") o.forwardLights = parseCount(a, value(), 1, 1000000);
+        else if (a == "--forward-plus-lights") o.forwardPlusLights = parseCount(a, value(), 1, 1000000);
+        else if (a == "--deferred-lights") o.deferredLights = parseCount(a, value(), 1, 1000000);
+        else if (a == "--fp-culling") {
+            o.forwardPlusCulling = value();
+            if (o.forwardPlusCulling != "binned" && o.forwardPlusCulling != "brute")
+                usageError("--fp-culling: '" + o.forwardPlusCulling + "' is not binned or brute");
+        } else if (a == "--sampler") {
+            const std::string mode = value();
+            if (mode != "gl" && mode != "emulated") usageError("--sampler: '" + mode + "' is not gl or emulated");
+            o.emulatedSampling = mode == "emulated";
+        } else if (a == "--csv") o.csv = value();
+        else if (a == "--dump") o.dumpDir = value();
+        else usageError("unknown option '" + a + "'");
+    }
+    return o;
+}
+
+// TESSERA_BENCH_THREADS="1,2,4" (default "1,2", as bench/raster_bench.cpp); bad entries exit 2.
+std::vector<std::uint32_t> benchThreadCounts() {
+    const char* env = std::getenv("TESSERA_BENCH_THREADS");
+    if (!env || !*env) return {1, 2};
+    std::vector<std::uint32_t> counts = bench::splitUints("TESSERA_BENCH_THREADS", env);
+    for (std::uint32_t n : counts)
+        if (n < 1 || n > 32) usageError("TESSERA_BENCH_THREADS: " + std::to_string(n) + " is not in 1..32 (llvmpipe's LP_MAX_THREADS)");
+    return counts;
+}
+
+// A bundled scene loaded as `tessera render SCENE --lights N --technique ID` loads it
+// (src/cli/main.cpp): scene file, generator counts overridden, camera, textures decoded per the
+// technique's policy.
+struct LoadedScene {
+    SceneDescription desc;
+    Camera camera;
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<SceneResources> resources;
+};
+
+std::unique_ptr<LoadedScene> loadBenchScene(const Config& c, const Options& opt) {
+    auto s = std::make_unique<LoadedScene>();
+    const fs::path file = fs::path(TESSERA_SOURCE_DIR) / "scenes" / (c.scene + ".json");
+    s->desc = parseSceneFile(file);
+    s->desc.technique = c.id;
+    for (LightGeneratorSpec& g : s->desc.generators) g.count = c.lights;
+    if (c.technique == Technique::ForwardPlus && opt.forwardPlusCulling != "binned")
+        s->desc.techniqueOptions["culling"] = opt.forwardPlusCulling;
+    s->scene = std::make_unique<Scene>(tessera::loadScene(s->desc, true, &s->camera));
+    s->resources = std::make_unique<SceneResources>(*s->scene, std::function<void(std::size_t, std::size_t)>{},
+                                                    findTechnique(c.id)->textures);
+    return s;
+}
+
+TechniqueContext contextFor(const LoadedScene& s, Device* device) {
+    TechniqueContext ctx;
+    ctx.device = device;
+    ctx.resources = s.resources.get();
+    ctx.camera = s.camera;
+    ctx.width = s.desc.width;
+    ctx.height = s.desc.height;
+    ctx.options = s.desc.techniqueOptions;
+    ctx.precision = s.desc.precision;
+    ctx.sceneFile = s.desc.file.string();
+    return ctx;
+}
+
+// Median ms per pass (in the order the passes ran) and of the per-frame sums.
+struct Timings {
+    std::vector<std::string> passes;
+    std::map<std::string, double> passMs;
+    double frameMs = 0.0;
+};
+
+Timings summarize(const std::vector<std::vector<samefr::PassTime>>& frames) {
+    Timings t;
+    std::map<std::string, std::vector<double>> samples;
+    std::vector<double> totals;
+    for (const auto& frame : frames) {
+        double total = 0.0;
+        for (const samefr::PassTime& p : frame) {
+            if (samples.find(p.name) == samples.end()) t.passes.push_back(p.name);
+            samples[p.name].push_back(p.milliseconds);
+            total += p.milliseconds;
+        }
+        totals.push_back(total);
+    }
+    for (const auto& [name, v] : samples) t.passMs[name] = bench::median(v);
+    t.frameMs = bench::median(totals);
+    return t;
+}
+
+struct Frame8 {
+    std::uint32_t width = 0, height = 0;
+    std::vector<std::uint8_t> rgba8;
+    std::vector<std::uint32_t> depthCode;  // D24 code per pixel
+    std::vector<std::uint8_t> stencil;
+};
+
+// Forward+ light lists: per tile (offset, count) and the global index list, opaque and
+// transparent (tessera's "lightgrid.*" / "lightindex.*" buffers, or GL's storage buffers).
+struct LightLists {
+    std::vector<std::uint32_t> grid[2], index[2];
+};
+
+struct RunResult {
+    Timings timings;
+    Frame8 image;
+    LightLists lists;  // forward-plus only
+};
+
+std::vector<std::uint32_t> surfaceWords(const Surface& s) {
+    std::vector<std::uint32_t> words(s.bytes().size() / sizeof(std::uint32_t));
+    std::memcpy(words.data(), s.bytes().data(), words.size() * sizeof(std::uint32_t));
+    return words;
+}
+
+RunResult runTessera(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations) {
+    Device device(DeviceConfig{64, threads});
+    const TechniqueContext ctx = contextFor(s, &device);
+    const tessera::Frame frame = buildTechnique(c.id, ctx, ctx.sceneFile);
+    std::vector<std::vector<samefr::PassTime>> frames;
+    RunResult r;
+    for (std::uint32_t i = 0; i <= iterations; ++i) {  // frame 0: warm-up, not timed
+        BufferRegistry registry;
+        const std::vector<PassTiming> timings = frame.run(registry);
+        if (i > 0) {
+            std::vector<samefr::PassTime> times;
+            for (const PassTiming& t : timings) times.push_back({t.name, t.milliseconds});
+            frames.push_back(std::move(times));
+        }
+        if (i == iterations) {
+            const Surface& back = registry.get(kBackBufferName);
+            const Surface& depth = registry.get("depth");
+            r.image.width = back.width();
+            r.image.height = back.height();
+            r.image.rgba8.resize(back.bytes().size());
+            std::memcpy(r.image.rgba8.data(), back.bytes().data(), back.bytes().size());
+            for (std::uint32_t y = 0; y < depth.height(); ++y)
+                for (std::uint32_t x = 0; x < depth.width(); ++x) {
+                    std::uint32_t texel;
+                    std::memcpy(&texel, depth.texel(x, y), sizeof texel);
+                    r.image.depthCode.push_back(texel & 0xFFFFFFu);
+                    r.image.stencil.push_back(depth.loadStencil(x, y));
+                }
+            if (c.technique == Technique::ForwardPlus) {
+                r.lists.grid[0] = surfaceWords(registry.get("lightgrid.opaque"));
+                r.lists.grid[1] = surfaceWords(registry.get("lightgrid.transparent"));
+                r.lists.index[0] = surfaceWords(registry.get("lightindex.opaque"));
+                r.lists.index[1] = surfaceWords(registry.get("lightindex.transparent"));
+            }
+        }
+    }
+    r.timings = summarize(frames);
+    return r;
+}
+
+RunResult runLlvmpipe(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations,
+                      const samefr::GlOptions& options, std::string& renderer) {
+    samefr::GlContext context(threads);  // fresh display: LP_NUM_THREADS = threads
+    renderer = context.renderer();
+    const TechniqueContext ctx = contextFor(s, nullptr);
+    // The technique's own setup with its default options (demo-gl projection, demo sampler, no
+    // alpha test in the forward passes): camera matrices, texture set and view-space lights.
+    const std::shared_ptr<ForwardPassSetup> setup =
+        makeForwardPassSetup(ctx, ProjectionConvention::DemoGl, PhongSamplerChoice::Demo, false);
+    samefr::GlRenderer gl(*s.resources, *setup, c.technique, options);
+    std::vector<std::vector<samefr::PassTime>> frames;
+    for (std::uint32_t i = 0; i <= iterations; ++i) {  // frame 0: warm-up (shader JIT, first touch)
+        std::vector<samefr::PassTime> times = gl.renderFrame();
+        if (i > 0) frames.push_back(std::move(times));
+    }
+    RunResult r;
+    r.timings = summarize(frames);
+    const samefr::GlImages images = gl.readBack();
+    r.image.width = setup->width;
+    r.image.height = setup->height;
+    r.image.rgba8 = images.rgba8;
+    for (std::uint32_t packed : images.depthStencil) {
+        r.image.depthCode.push_back(packed >> 8);
+        r.image.stencil.push_back(std::uint8_t(packed & 0xFFu));
+    }
+    const samefr::GlLightLists lists = gl.readLightLists();
+    r.lists.grid[0] = lists.opaqueGrid;
+    r.lists.grid[1] = lists.transparentGrid;
+    r.lists.index[0] = lists.opaqueIndex;
+    r.lists.index[1] = lists.transparentIndex;
+    return r;
+}
+
+// llvmpipe's image against tessera's, RGB only (the presented image ignores alpha).
+struct DiffStats {
+    int maxAbs = 0;                    // 8-bit codes, over R, G, B
+    double rmse = 0.0;                 // codes, over every R, G, B value
+    std::uint64_t differingPixels = 0; // any of R, G, B differs
+    std::uint64_t coverageDiffers = 0; // the clear colour in one image and not in the other
+    std::array<std::uint64_t, 5> byMaxDiff{};  // pixels whose largest R, G, B difference is 1, 2-3, 4-7, 8-15, >= 16
+    std::uint64_t depthDiffers = 0;    // D24 codes differ
+    std::uint64_t depthFar = 0;        // D24 codes differ by more than 16 (not interpolation rounding)
+    std::uint32_t maxDepthCodeDiff = 0;
+    std::uint64_t stencilDiffers = 0;
+    std::uint64_t pixels = 0;
+    // Forward+: tiles whose opaque / transparent light list (count and indices) differs.
+    std::uint64_t tilesListDiffer[2] = {0, 0};
+    std::uint64_t tiles = 0;
+};
+
+// Per tile, the (count, indices) of both lists; entries past a global list's end read 0, as the
+// pixel shader reads them. Offsets may differ (GL's atomic order), contents may not.
+void compareLists(const LightLists& tess, const LightLists& lp, DiffStats& d) {
+    if (tess.grid[0].empty() || lp.grid[0].empty()) return;
+    d.tiles = tess.grid[0].size() / 2;
+    const auto entry = [](const std::vector<std::uint32_t>& list, std::uint64_t at) { return at < list.size() ? list[at] : 0u; };
+    for (int which = 0; which < 2; ++which) {
+        for (std::uint64_t tile = 0; tile < d.tiles; ++tile) {
+            const std::uint32_t offsetA = tess.grid[which][tile * 2], countA = tess.grid[which][tile * 2 + 1];
+            const std::uint32_t offsetB = lp.grid[which][tile * 2], countB = lp.grid[which][tile * 2 + 1];
+            bool differs = countA != countB;
+            for (std::uint32_t i = 0; i < countA && !differs; ++i)
+                differs = entry(tess.index[which], std::uint64_t(offsetA) + i) != entry(lp.index[which], std::uint64_t(offsetB) + i);
+            if (differs) ++d.tilesListDiffer[which];
+        }
+    }
+}
+
+DiffStats compare(const Frame8& tess, const Frame8& lp) {
+    if (tess.width != lp.width || tess.height != lp.height) throw std::runtime_error("image sizes differ");
+    // The clear colour's codes as tessera stores them (float -> UNORM of kDemoClearColor).
+    Surface clear({1, 1, Format::R8G8B8A8_UNORM, 1});
+    clear.clearColor(kDemoClearColor);
+    std::uint8_t clearCode[4];
+    std::memcpy(clearCode, clear.bytes().data(), 4);
+    DiffStats d;
+    d.pixels = std::uint64_t(tess.width) * tess.height;
+    double sumSquares = 0.0;
+    for (std::uint64_t p = 0; p < d.pixels; ++p) {
+        const std::uint8_t* a = &tess.rgba8[p * 4];
+        const std::uint8_t* b = &lp.rgba8[p * 4];
+        bool clearA = true, clearB = true;
+        int pixelMax = 0;
+        for (int ch = 0; ch < 3; ++ch) {
+            const int diff = std::abs(int(a[ch]) - int(b[ch]));
+            pixelMax = std::max(pixelMax, diff);
+            sumSquares += double(diff) * diff;
+            clearA = clearA && a[ch] == clearCode[ch];
+            clearB = clearB && b[ch] == clearCode[ch];
+        }
+        d.maxAbs = std::max(d.maxAbs, pixelMax);
+        if (pixelMax > 0) {
+            ++d.differingPixels;
+            ++d.byMaxDiff[pixelMax < 2 ? 0 : pixelMax < 4 ? 1 : pixelMax < 8 ? 2 : pixelMax < 16 ? 3 : 4];
+        }
+        if (clearA != clearB) ++d.coverageDiffers;
+        const std::uint32_t za = tess.depthCode[p], zb = lp.depthCode[p];
+        if (za != zb) {
+            ++d.depthDiffers;
+            const std::uint32_t codes = za > zb ? za - zb : zb - za;
+            d.maxDepthCodeDiff = std::max(d.maxDepthCodeDiff, codes);
+            if (codes > 16) ++d.depthFar;
+        }
+        if (tess.stencil[p] != lp.stencil[p]) ++d.stencilDiffers;
+    }
+    d.rmse = std::sqrt(sumSquares / double(d.pixels * 3));
+    return d;
+}
+
+void dumpImages(const fs::path& dir, const std::string& stem, const Frame8& tess, const Frame8& lp) {
+    fs::create_directories(dir);
+    const SurfaceDesc desc{tess.width, tess.height, Format::R8G8B8A8_UNORM, 1};
+    Surface a(desc), b(desc), diff(desc);
+    std::memcpy(a.bytes().data(), tess.rgba8.data(), tess.rgba8.size());
+    std::memcpy(b.bytes().data(), lp.rgba8.data(), lp.rgba8.size());
+    auto* out = reinterpret_cast<std::uint8_t*>(diff.bytes().data());
+    for (std::size_t i = 0; i < tess.rgba8.size(); ++i)  // |difference| x 16, alpha opaque
+        out[i] = i % 4 == 3 ? 255 : std::uint8_t(std::min(255, 16 * std::abs(int(tess.rgba8[i]) - int(lp.rgba8[i]))));
+    writeSurface(withOpaqueAlpha(a), dir / (stem + "-tessera.png"));
+    writeSurface(withOpaqueAlpha(b), dir / (stem + "-llvmpipe.png"));
+    writeSurface(diff, dir / (stem + "-diff.png"));
+}
+
+struct Row {
+    Config config;
+    std::uint32_t threads = 0;
+    Timings tessera, llvmpipe;
+    DiffStats diff;
+};
+
+std::string ms(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", v);
+    return text;
+}
+
+std::vector<std::string> passUnion(const Row& r) {
+    std::vector<std::string> names = r.tessera.passes;
+    for (const std::string& n : r.llvmpipe.passes)
+        if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    return names;
+}
+
+std::string lookup(const Timings& t, const std::string& pass) {
+    const auto it = t.passMs.find(pass);
+    return it == t.passMs.end() ? std::string("-") : ms(it->second);
+}
+
+std::string ratio(const Timings& tess, const Timings& lp, const std::string& pass) {
+    const auto a = tess.passMs.find(pass), b = lp.passMs.find(pass);
+    if (a == tess.passMs.end() || b == lp.passMs.end() || a->second <= 0.0) return "-";
+    return ms(b->second / a->second);
+}
+
+void printTables(const std::vector<Row>& rows) {
+    std::printf("\n## Time per pass (median ms; ratio = llvmpipe / tessera, > 1: tessera faster)\n\n");
+    std::printf("| technique | lights | threads | pass | tessera ms | llvmpipe ms | ratio |\n");
+    std::printf("|---|---:|---:|---|---:|---:|---:|\n");
+    for (const Row& r : rows) {
+        for (const std::string& pass : passUnion(r))
+            std::printf("| %s | %u | %u | %s | %s | %s | %s |\n", r.config.id.c_str(), r.config.lights, r.threads, pass.c_str(),
+                        lookup(r.tessera, pass).c_str(), lookup(r.llvmpipe, pass).c_str(),
+                        ratio(r.tessera, r.llvmpipe, pass).c_str());
+        std::printf("| %s | %u | %u | **frame** | **%s** | **%s** | **%s** |\n", r.config.id.c_str(), r.config.lights, r.threads,
+                    ms(r.tessera.frameMs).c_str(), ms(r.llvmpipe.frameMs).c_str(),
+                    ms(r.llvmpipe.frameMs / r.tessera.frameMs).c_str());
+    }
+    std::printf("\n## llvmpipe back buffer against tessera's exact back buffer (R, G, B in 8-bit codes)\n\n");
+    std::printf("| technique | lights | threads | max abs | RMSE | differing px | by max diff 1 / 2-3 / 4-7 / 8-15 / 16+ | "
+                "coverage differs px | depth differs px (> 16 codes; max) | stencil differs px | light lists differ (tiles, "
+                "opaque / transparent) |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const Row& r : rows) {
+        const DiffStats& d = r.diff;
+        const std::string stencil = r.config.technique == Technique::Deferred ? std::to_string(d.stencilDiffers) : "-";
+        const std::string lists = d.tiles == 0 ? std::string("-")
+                                               : std::to_string(d.tilesListDiffer[0]) + " / " + std::to_string(d.tilesListDiffer[1]) +
+                                                     " of " + std::to_string(d.tiles);
+        const auto u = [](std::uint64_t v) { return (unsigned long long)v; };
+        std::printf("| %s | %u | %u | %d | %.3f | %llu (%.2f%%) | %llu / %llu / %llu / %llu / %llu | %llu | %llu (%llu; %u) | %s | %s |\n",
+                    r.config.id.c_str(), r.config.lights, r.threads, d.maxAbs, d.rmse, u(d.differingPixels),
+                    100.0 * double(d.differingPixels) / double(d.pixels), u(d.byMaxDiff[0]), u(d.byMaxDiff[1]),
+                    u(d.byMaxDiff[2]), u(d.byMaxDiff[3]), u(d.byMaxDiff[4]), u(d.coverageDiffers), u(d.depthDiffers),
+                    u(d.depthFar), d.maxDepthCodeDiff, stencil.c_str(), lists.c_str());
+    }
+}
+
+void writeCsv(const std::string& path, const std::vector<Row>& rows) {
+    std::ofstream out(path);
+    if (!out) throw std::runtime_error("cannot write " + path);
+    out << "technique,scene,lights,threads,pass,tessera_ms,llvmpipe_ms,ratio,max_abs_diff,rmse,differing_pixels,"
+           "max_diff_1,max_diff_2_3,max_diff_4_7,max_diff_8_15,max_diff_16_up,coverage_differs_pixels,depth_differs_pixels,"
+           "depth_differs_over_16_codes,max_depth_code_diff,stencil_differs_pixels,opaque_list_tiles_differ,"
+           "transparent_list_tiles_differ\n";
+    for (const Row& r : rows) {
+        const std::string head = r.config.id + "," + r.config.scene + "," + std::to_string(r.config.lights) + "," +
+                                 std::to_string(r.threads) + ",";
+        for (const std::string& pass : passUnion(r)) {
+            const std::string t = lookup(r.tessera, pass), l = lookup(r.llvmpipe, pass), q = ratio(r.tessera, r.llvmpipe, pass);
+            out << head << pass << "," << (t == "-" ? "" : t) << "," << (l == "-" ? "" : l) << "," << (q == "-" ? "" : q)
+                << ",,,,,,,,,,,,,,,\n";
+        }
+        const DiffStats& d = r.diff;
+        out << head << "frame," << ms(r.tessera.frameMs) << "," << ms(r.llvmpipe.frameMs) << ","
+            << ms(r.llvmpipe.frameMs / r.tessera.frameMs) << "," << d.maxAbs << "," << d.rmse << "," << d.differingPixels << ",";
+        for (std::uint64_t n : d.byMaxDiff) out << n << ",";
+        out << d.coverageDiffers << "," << d.depthDiffers << "," << d.depthFar << "," << d.maxDepthCodeDiff << ","
+            << (r.config.technique == Technique::Deferred ? std::to_string(d.stencilDiffers) : std::string()) << ",";
+        if (d.tiles > 0) out << d.tilesListDiffer[0] << "," << d.tilesListDiffer[1];
+        else out << ",";
+        out << "\n";
+    }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options opt = parseArgs(argc, argv);
+    const std::vector<std::uint32_t> threadCounts = benchThreadCounts();
+    bench::useSteadyStateAllocator();
+    std::vector<Config> configs;
+    for (const std::string& t : opt.techniques) {
+        if (t == "forward") configs.push_back({t, Technique::Forward, "sponza-large-lights", opt.forwardLights});
+        if (t == "forward-plus") configs.push_back({t, Technique::ForwardPlus, "sponza-small-lights", opt.forwardPlusLights});
+        if (t == "deferred") configs.push_back({t, Technique::Deferred, "sponza-small-lights", opt.deferredLights});
+    }
+    std::vector<Row> rows;
+    std::string renderer;
+    samefr::GlOptions glOptions;
+    glOptions.emulatedSampling = opt.emulatedSampling;
+    try {
+        for (const Config& c : configs) {
+            std::fprintf(stderr, "loading %s with %u lights for %s...\n", c.scene.c_str(), c.lights, c.id.c_str());
+            const std::unique_ptr<LoadedScene> scene = loadBenchScene(c, opt);
+            for (std::uint32_t threads : threadCounts) {
+                std::fprintf(stderr, "  %s, %u thread(s): tessera...\n", c.id.c_str(), threads);
+                RunResult tess = runTessera(*scene, c, threads, opt.iterations);
+                std::fprintf(stderr, "  %s, %u thread(s): llvmpipe...\n", c.id.c_str(), threads);
+                RunResult lp = runLlvmpipe(*scene, c, threads, opt.iterations, glOptions, renderer);
+                Row row{c, threads, tess.timings, lp.timings, compare(tess.image, lp.image)};
+                compareLists(tess.lists, lp.lists, row.diff);
+                if (!opt.dumpDir.empty())
+                    dumpImages(opt.dumpDir, c.id + "-t" + std::to_string(threads), tess.image, lp.image);
+                rows.push_back(std::move(row));
+            }
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "same_frame_bench: %s\n", e.what());
+        return 1;
+    }
+    std::printf("# Same frame: tessera (exact) vs %s, 1280x720 Sponza, %u timed frames after 1 warm-up; tessera forward-plus "
+                "culling %s%s\n",
+                renderer.c_str(), opt.iterations, opt.forwardPlusCulling.c_str(),
+                opt.emulatedSampling ? "; llvmpipe with --sampler emulated (diagnostic: times not comparable)" : "");
+    printTables(rows);
+    if (!opt.csv.empty()) writeCsv(opt.csv, rows);
+    return 0;
+}
