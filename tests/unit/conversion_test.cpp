@@ -120,6 +120,12 @@ TEST_CASE("unormToFloat / snormToFloat: values (§3.2.3.5, §3.2.3.3)") {
     CHECK(depthToD24(0.5f) == 0x800000u);   // tie 8388607.5 -> 8388608
     CHECK(depthToD24(kNaN) == 0u);
     CHECK(depthToD24(-0.0f) == 0u);
+    // The inlined depthToD24 equals floatToUnorm(z, 24) on every float in [0, 1] with the low
+    // 6 mantissa bits varied (2^24 samples spanning every exponent), and on the edges.
+    bool sameAsUnorm = depthToD24(1.0f) == floatToUnorm(1.0f, 24) && depthToD24(2.0f) == 0xFFFFFFu;
+    for (std::uint32_t bits = 0; bits <= 0x3F800000u && sameAsUnorm; bits += 61)
+        sameAsUnorm = depthToD24(std::bit_cast<float>(bits)) == floatToUnorm(std::bit_cast<float>(bits), 24);
+    CHECK(sameAsUnorm);
 
     // §3.2.3.3's 5-bit examples: 10000 -> -1, 10001 -> -1 (-15/15), 01111 -> 1.
     CHECK(snormToFloat(0b10000, 5) == -1.0f);

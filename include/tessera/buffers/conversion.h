@@ -76,7 +76,15 @@ float srgb8ToLinear(std::uint8_t code);
 
 // ---- Depth (D24_UNORM_S8_UINT) --------------------------------------------------------------
 // D24 depth is a 24-bit UNORM (§3.2.3.5 / §3.2.3.6) in bits 0..23 of the texel.
-inline std::uint32_t depthToD24(float z) { return floatToUnorm(z, 24); }
+// floatToUnorm(z, 24) spelled out so that the depth test inlines it: the same clamp, the
+// product in double (exact: 24 + 24 bits), round half up on the exact fraction.
+inline std::uint32_t depthToD24(float z) {
+    if (!(z > 0.0f)) return 0;  // NaN, negatives, +-0
+    if (z >= 1.0f) return 0xFFFFFFu;
+    const double p = static_cast<double>(z) * 16777215.0;
+    const auto i = static_cast<std::int32_t>(p);  // 0 <= p < 2^24
+    return static_cast<std::uint32_t>(i) + (p - static_cast<double>(i) >= 0.5 ? 1u : 0u);
+}
 inline float d24ToDepth(std::uint32_t code) { return unormToFloat(code & 0xFFFFFFu, 24); }
 
 // The UNORM conversion's clamp (D3D11.3 §3.2.3.6) without the rounding: NaN -> 0, then
