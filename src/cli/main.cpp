@@ -1,6 +1,7 @@
 // The `tessera` command: `render` draws a scene file (or a glTF, or the built-in scene) with a
 // technique and writes the back buffer; `list` shows techniques and bundled scenes; `info`
-// describes a scene. Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
+// describes a scene; `diff` compares two images (diff.cpp). Exit codes: 0 success, 1 failure while
+// rendering, 2 bad usage or bad input.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -15,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <tessera/io/atomic_file.h>
@@ -26,6 +28,7 @@
 #include <tessera/techniques/technique.h>
 
 #include <tessera/techniques/builtin_scene.h>
+#include "diff.h"
 #include "progress.h"
 
 namespace {
@@ -39,6 +42,7 @@ commands:
   render [SCENE]  render a scene and write the back buffer (default: the bundled scene 'default')
   list            list techniques and bundled scenes
   info SCENE      describe a scene: triangles, materials, lights, bounds, memory
+  diff A B        compare two images: max abs difference, RMSE, PSNR, differing pixels
   help            show this text
 
 SCENE is a scene file (.json), a glTF file (.gltf/.glb), the name of a bundled scene
@@ -63,7 +67,11 @@ options:
   --tile T          tile size in px, even, 8..1024 (default 64)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png)
-  --stats           print load, per-pass and frame times, draw counters and the FNV-1a 64 hash of each written file
+  --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
+                    prints each pass's and the frame's median over the N runs; the last run is written
+  --warmup K        render K untimed frames before the N timed ones, 0..100000 (default 0)
+  --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
+                    FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
   --quiet           print nothing on success (no progress bar either)
   --help            show this text
@@ -149,6 +157,7 @@ struct RenderOptions {
     std::optional<std::uint32_t> lights;
     tessera::DeviceConfig device;
     std::uint32_t msaa = 1;
+    std::uint32_t repeat = 1, warmup = 0;
     bool stats = false, quiet = false;
     tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
 };
@@ -185,7 +194,9 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             o.msaa = parseUint(a, value(), 1, 8);
             if (o.msaa != 1 && o.msaa != 2 && o.msaa != 4 && o.msaa != 8)
                 throw UsageError("--msaa: " + std::to_string(o.msaa) + " is not 1, 2, 4 or 8");
-        } else if (a == "--dump") o.dumpDir = std::string(value());
+        } else if (a == "--repeat") o.repeat = parseUint(a, value(), 1, 100000);
+        else if (a == "--warmup") o.warmup = parseUint(a, value(), 0, 100000);
+        else if (a == "--dump") o.dumpDir = std::string(value());
         else if (a == "--stats") o.stats = true;
         else if (a == "--quiet") o.quiet = true;
         else if (a == "--progress") o.progress = tessera::cli::Progress::Mode::On;
@@ -241,20 +252,89 @@ void printDrawStats(const tessera::DrawStats& s) {
                 (unsigned long long)s.samplesPassed);
 }
 
+// The frame rendered `warmup` times untimed, then `repeat` times timed, each run into a fresh
+// registry (`registry` keeps the last run's buffers, which are written). `beforeRun` resets the
+// counters a run accumulates, so the draw counters printed are one frame's.
+struct FrameRuns {
+    std::vector<std::vector<tessera::PassTiming>> passes;  // per timed run, in pass order
+    std::vector<double> frameMs;                           // per timed run
+};
+
+template <class BeforeRun>
+FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& registry, const RenderOptions& o,
+                    tessera::cli::Progress& progress, const std::string& label, BeforeRun beforeRun) {
+    FrameRuns runs;
+    const std::uint32_t total = o.warmup + o.repeat;
+    for (std::uint32_t i = 0; i < total; ++i) {
+        if (total > 1) progress.update(label, i, total);
+        else progress.update(label, 0, 0);
+        beforeRun();
+        registry = tessera::BufferRegistry{};
+        const auto t = Clock::now();
+        std::vector<tessera::PassTiming> timings = frame.run(registry);
+        const double ms = msSince(t);
+        if (i < o.warmup) continue;
+        runs.passes.push_back(std::move(timings));
+        runs.frameMs.push_back(ms);
+    }
+    return runs;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The process's peak resident set size (getrusage ru_maxrss, KiB on Linux) in MiB.
+double peakRssMiB() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+    return double(usage.ru_maxrss) / 1024.0;
+}
+
+// "pass <name> <ms>" per pass and "frame <ms>": one run's times as they are, or with --repeat N > 1
+// each pass's and the frame's median over the N runs with the range beside it.
+void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine) {
+    const std::size_t n = runs.frameMs.size();
+    if (n == 1) {
+        for (const auto& t : runs.passes[0]) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
+        if (frameLine) std::printf("frame    %9.3f ms\n", runs.frameMs[0]);
+        return;
+    }
+    std::printf("repeat   %zu timed runs after %u warm-up runs; times below are medians (min..max)\n", n, o.warmup);
+    for (std::size_t p = 0; p < runs.passes[0].size(); ++p) {
+        std::vector<double> ms;
+        for (const auto& run : runs.passes) ms.push_back(run[p].milliseconds);
+        const auto [lo, hi] = std::minmax_element(ms.begin(), ms.end());
+        std::printf("pass %-12s %9.3f ms  (%.3f..%.3f)\n", runs.passes[0][p].name.c_str(), median(ms), *lo, *hi);
+    }
+    if (frameLine) {
+        const auto [lo, hi] = std::minmax_element(runs.frameMs.begin(), runs.frameMs.end());
+        std::printf("frame    %9.3f ms  (%.3f..%.3f)\n", median(runs.frameMs), *lo, *hi);
+    }
+}
+
+void printPeakMemory() { std::printf("peak memory  %.1f MiB\n", peakRssMiB()); }
+
 int renderBuiltin(const RenderOptions& o) {
     tessera::BuiltinSceneOptions opt;
     opt.width = o.width ? o.width : opt.width;
     opt.height = o.height ? o.height : opt.height;
     opt.sampleCount = o.msaa;
+    opt.precision = o.precision.value_or(tessera::Precision::Exact);
     tessera::Device device(o.device);
     tessera::DrawStats drawStats;
     tessera::BufferRegistry registry;
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
-    const auto timings = frame.run(registry);
+    tessera::cli::Progress progress(o.progress);
+    const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; });
     const std::vector<WrittenFile> written = writeOutputs(registry, o);
+    progress.finish();
     if (o.stats) {
-        for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
+        printTimings(runs, o, o.repeat > 1);
         printDrawStats(drawStats);
+        printPeakMemory();
         printHashes(written);
     }
     if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
@@ -313,10 +393,10 @@ int render(const std::vector<std::string_view>& args) {
 
     try {
         tessera::BufferRegistry registry;
-        progress.update("rendering " + desc.technique, 0, 0);
-        const auto t2 = Clock::now();
-        const auto timings = frame.run(registry);
-        const double frameMs = msSince(t2);
+        const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering " + desc.technique, [&] {
+            drawStats = {};
+            variantCounts.clear();
+        });
         progress.update("writing " + o.out, 0, 0);
         const std::vector<WrittenFile> written = writeOutputs(registry, o);
         progress.finish();
@@ -328,9 +408,9 @@ int render(const std::vector<std::string_view>& args) {
             std::printf("load     %9.3f ms (glTF, images, lights)\n", loadMs);
             std::printf("textures %9.3f ms (%zu textures with mips, %.1f MiB)\n", texturesMs, resources.textureCount(),
                         double(resources.textureBytes()) / (1024.0 * 1024.0));
-            for (const auto& t : timings) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
-            std::printf("frame    %9.3f ms\n", frameMs);
+            printTimings(runs, o, true);
             printDrawStats(drawStats);
+            printPeakMemory();
             for (const auto& [variant, draws] : variantCounts)
                 std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
             printHashes(written);
@@ -454,6 +534,7 @@ int main(int argc, char** argv) {
         if (args[0] == "render") return render(rest);
         if (args[0] == "list") return list(rest);
         if (args[0] == "info") return info(rest);
+        if (args[0] == "diff") return tessera::cli::diffCommand(rest);
         throw UsageError("unknown command '" + std::string(args[0]) + "'");
     } catch (const UsageError& e) {
         std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);
@@ -466,3 +547,4 @@ int main(int argc, char** argv) {
         return 1;
     }
 }
+

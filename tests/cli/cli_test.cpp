@@ -195,3 +195,83 @@ TEST_CASE("cli: a glTF file renders directly with the preview technique and a fr
     CHECK(bad.exitCode == 2);
     CHECK(bad.output.find("not a scene file") != std::string::npos);
 }
+
+TEST_CASE("cli: --precision reaches every technique and the builtin scene") {
+    const auto dump = scratch("precision-dump");
+    std::filesystem::remove_all(dump);
+    // reference writes the float copy beside the back buffer; fast and exact do not.
+    Run r = run("render builtin --precision reference --width 48 --height 32 --quiet --out " + scratch("ref.png").string() +
+                " --dump " + dump.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(std::filesystem::exists(dump / "backbuffer.reference.exr"));
+    for (const char* technique : {"forward", "forward-plus", "deferred", "deferred-killzone"}) {
+        r = run(std::string("render default --technique ") + technique + " --precision fast --width 32 --height 18 --quiet --out " +
+                scratch("fast.png").string());
+        INFO(technique << ": " << r.output);
+        CHECK(r.exitCode == 0);
+    }
+    r = run("render default --technique tiled-deferred --precision reference --width 32 --height 18 --quiet --out " +
+            scratch("tiled.png").string());
+    CHECK(r.exitCode == 0);
+}
+
+TEST_CASE("cli: diff reports zero against itself, nonzero against another render, and refuses mismatched images") {
+    const auto a = scratch("diff-a.png"), b = scratch("diff-b.png"), small = scratch("diff-small.png");
+    const auto dump = scratch("diff-dump");
+    std::filesystem::remove_all(dump);
+    REQUIRE(run("render builtin --width 48 --height 32 --quiet --out " + a.string() + " --dump " + dump.string()).exitCode == 0);
+    REQUIRE(run("render builtin --width 48 --height 32 --msaa 4 --quiet --out " + b.string()).exitCode == 0);
+    REQUIRE(run("render builtin --width 24 --height 16 --quiet --out " + small.string()).exitCode == 0);
+
+    Run r = run("diff " + a.string() + " " + a.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    for (const char* line : {"max abs    0\n", "rmse       0\n", "psnr       inf", "differing  0 of 1536 pixels", "8-bit code units"})
+        CHECK_MESSAGE(r.output.find(line) != std::string::npos, line);
+    r = run("diff --json " + a.string() + " " + a.string());
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("\"max_abs\":0.0") != std::string::npos);
+    CHECK(r.output.find("\"psnr_db\":null") != std::string::npos);
+    CHECK(r.output.find("\"differing_pixels\":0") != std::string::npos);
+
+    // 4x MSAA smooths the edges of the same scene: some pixels differ, by a finite PSNR.
+    r = run("diff --json " + a.string() + " " + b.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("\"max_abs\":0.0") == std::string::npos);
+    CHECK(r.output.find("\"differing_pixels\":0,") == std::string::npos);
+    CHECK(r.output.find("\"psnr_db\":null") == std::string::npos);
+
+    // Sizes, then channel counts (RGBA against the one-channel depth EXR): exit 2 naming both files.
+    r = run("diff " + a.string() + " " + small.string());
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find(a.string()) != std::string::npos);
+    CHECK(r.output.find(small.string()) != std::string::npos);
+    CHECK(r.output.find("sizes differ") != std::string::npos);
+    r = run("diff " + a.string() + " " + (dump / "depth.exr").string());
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("channel counts differ") != std::string::npos);
+    CHECK(r.output.find((dump / "depth.exr").string()) != std::string::npos);
+    CHECK(run("diff " + a.string()).exitCode == 2);
+    CHECK(run("diff " + a.string() + " " + scratch("diff-missing.png").string()).exitCode == 2);
+}
+
+TEST_CASE("cli: render --repeat N prints medians over N runs and the peak memory, and writes the same image") {
+    const auto once = scratch("repeat-1.png"), thrice = scratch("repeat-3.png");
+    Run r = run("render builtin --width 40 --height 24 --stats --quiet --out " + once.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("repeat ") == std::string::npos);
+    CHECK(r.output.find("peak memory  ") != std::string::npos);
+    r = run("render builtin --width 40 --height 24 --stats --quiet --repeat 3 --warmup 1 --out " + thrice.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("repeat   3 timed runs after 1 warm-up runs") != std::string::npos);
+    CHECK(r.output.find("frame    ") != std::string::npos);
+    CHECK(r.output.find("peak memory  ") != std::string::npos);
+    CHECK(run("diff --json " + once.string() + " " + thrice.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+    r = run("render builtin --repeat 0");
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("--repeat: '0'") != std::string::npos);
+}
