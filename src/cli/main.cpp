@@ -250,6 +250,7 @@ void printDrawStats(const tessera::DrawStats& s) {
                 (unsigned long long)(s.setup.culledFacing + s.setup.culledDegenerate + s.setup.culledNonFinite),
                 (unsigned long long)s.setup.trianglesOut, (unsigned long long)s.quads, (unsigned long long)s.psInvocations,
                 (unsigned long long)s.samplesPassed);
+    for (const auto& [path, draws] : s.paths) std::printf("path %-44s %llu draws\n", path.c_str(), (unsigned long long)draws);
 }
 
 // The frame rendered `warmup` times untimed, then `repeat` times timed, each run into a fresh

@@ -22,6 +22,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     quads += o.quads;
     psInvocations += o.psInvocations;
     samplesPassed += o.samplesPassed;
+    for (const auto& [path, draws] : o.paths) paths[path] += draws;
     return *this;
 }
 
@@ -48,6 +49,17 @@ bool isDualSource(Blend b) {
     return b == Blend::Src1Color || b == Blend::InvSrc1Color || b == Blend::Src1Alpha || b == Blend::InvSrc1Alpha;
 }
 } // namespace
+
+std::string drawPathName(bool hasPixelShader, DepthPath depth, std::uint32_t sampleCount, bool blends, Precision precision) {
+    static constexpr const char* kDepth[] = {"Off", "D32", "D24", "General"};
+    std::string name = hasPixelShader ? "ps" : "no-ps";
+    name += " depth:";
+    name += kDepth[int(depth)];
+    name += ' ' + std::to_string(sampleCount) + 'x';
+    if (blends) name += " blend";
+    name += precision == Precision::Fast ? " raster:fast" : " raster:exact";
+    return name;
+}
 
 DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, std::uint32_t tileSize) {
     if (tileSize < 8 || tileSize > 1024 || tileSize % 2 != 0) invalid("tile size " + std::to_string(tileSize));

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <string>
 #include <span>
 
 #include <tbb/global_control.h>
@@ -13,6 +15,7 @@
 
 #include <tessera/raster/draw_state.h>
 #include <tessera/raster/occlusion_query.h>
+#include <tessera/raster/output_merger.h>
 #include <tessera/raster/triangle_setup.h>
 #include <tessera/shaders/shader_stages.h>
 
@@ -30,6 +33,10 @@ struct DrawStats {
     std::uint64_t quads = 0;                // 2x2 quads with at least one covered sample
     std::uint64_t psInvocations = 0;        // pixel (or sample) shader calls, helpers excluded
     std::uint64_t samplesPassed = 0;        // samples passing depth/stencil, not discarded
+    // Draws per pipeline path the rasterizer specialised for (what the draw's state and shader
+    // require, nothing more): "ps depth:D24 1x raster:exact", "no-ps depth:General 4x ...",
+    // with "blend" when a target blends. The paths a frame took, for --stats.
+    std::map<std::string, std::uint64_t> paths;
     DrawStats& operator+=(const DrawStats& o);
 };
 
@@ -45,6 +52,9 @@ struct DrawTargets {
 // or crossed, dual-source blend factors, *_COLOR factors in the alpha blend, blending on an
 // integer target, alpha-to-coverage, a tile size that is odd or outside 8..1024.
 DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, std::uint32_t tileSize);
+
+// The DrawStats::paths key of a draw.
+std::string drawPathName(bool hasPixelShader, DepthPath depth, std::uint32_t sampleCount, bool blends, Precision precision);
 
 class Device {
 public:

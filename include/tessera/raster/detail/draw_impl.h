@@ -549,6 +549,11 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         }
         if (targets.depthStencil) dc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
 
+        bool blends = false;
+        for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt)
+            blends = blends || (targets.colors[rt] && dc.blend[rt].blendEnable);
+        ++stats.paths[drawPathName(!std::is_same_v<PS, NoPixelShader>, dc.ds.path(), dt.sampleCount, blends, state.precision)];
+
         std::vector<detail::SetupChunk> chunks;
         std::vector<detail::TileCounters> counters;
         for (std::uint32_t first = 0; first < triangleCount; first += std::min(detail::kBatchTriangles, triangleCount - first)) {
