@@ -1,7 +1,9 @@
-// Same-frame benchmark: the bundled Sponza scenes through tessera and Mesa llvmpipe (GL 4.5 core,
-// ports in bench/same_frame/) with the same camera, lights, textures, draw order and states, per
-// technique and thread count: median ms per pass and frame, their ratio, and how llvmpipe's back
-// buffer (and depth, stencil, Forward+ light lists) differ from tessera's exact ones.
+// Same-frame benchmark: the bundled Sponza scenes through tessera and OpenGL 4.5 core (ports in
+// bench/same_frame/) with the same camera, lights, textures, draw order and states, per technique
+// and thread count: median ms per pass and frame, their ratio, and how GL's back buffer (and
+// depth, stencil, Forward+ light lists) differ from tessera's exact ones. GL is Mesa llvmpipe
+// (--gl-platform surfaceless, the default) or a GPU driver through EGL_EXT_platform_device
+// (--gl-platform device: headless NVIDIA, say; its passes timed by GL_TIME_ELAPSED queries).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -35,13 +37,22 @@ using samefr::Technique;
 
 constexpr const char* kUsage = R"(usage: same_frame_bench [options]
 
-Renders the same Sponza frame through tessera (precision exact) and llvmpipe (GL 4.5 core) and
-prints, per technique and thread count, median ms per pass and per frame of both, the ratio
-llvmpipe / tessera (> 1: tessera is faster), and the difference of llvmpipe's back buffer from
-tessera's. Thread counts: TESSERA_BENCH_THREADS="1,2" (default; tessera's Device threads and
-llvmpipe's LP_NUM_THREADS alike).
+Renders the same Sponza frame through tessera (precision exact) and GL 4.5 core (llvmpipe, or a
+GPU with --gl-platform device) and prints, per technique and thread count, median ms per pass and
+per frame of both, the ratio GL / tessera (> 1: tessera is faster), and the difference of GL's
+back buffer from tessera's. Thread counts: --tessera-threads, else TESSERA_BENCH_THREADS="1,2"
+(default; tessera's Device threads and llvmpipe's LP_NUM_THREADS alike; with --gl-platform
+device GL runs once per technique and every thread count is compared with that run). Scenes:
+$TESSERA_SCENES, else the source tree's scenes/ folder.
 
 options:
+  --gl-platform P          surfaceless (default): Mesa llvmpipe through EGL_MESA_platform_surfaceless,
+                           pass times on the wall clock between glFinish calls; device: an EGL device
+                           (EGL_EXT_platform_device), pass times from GL_TIME_ELAPSED queries (GPU
+                           execution; the frame is their sum), glFinish wall times beside them
+  --gl-device N            with device: the Nth EGL device (default: the first that is not a
+                           software renderer)
+  --tessera-threads LIST   tessera's thread counts, e.g. 1,2,4,8 (overrides TESSERA_BENCH_THREADS)
   --techniques LIST        forward,forward-plus,deferred (default: all three)
   --iterations N           timed frames after one warm-up frame, 1..1000 (default 3)
   --forward-lights N       sponza-large-lights light count for forward (default 64)
@@ -55,7 +66,7 @@ options:
                            which image differences the sampler causes; its timings are not
                            comparable)
   --csv FILE               also write every row as CSV
-  --dump DIR               write <technique>-t<threads>-{tessera,llvmpipe,diff}.png into DIR
+  --dump DIR               write <technique>-t<threads>-{tessera,llvmpipe|gpu,diff}.png into DIR
   --help                   show this text
 )";
 
@@ -73,6 +84,9 @@ struct Options {
     std::string csv, dumpDir;
     bool emulatedSampling = false;
     std::string forwardPlusCulling = "binned";
+    samefr::GlPlatform platform = samefr::GlPlatform::Surfaceless;
+    int glDevice = -1;
+    std::string tesseraThreads;  // --tessera-threads, unparsed (checked against the platform)
 };
 
 [[noreturn]] void usageError(const std::string& message) {
@@ -115,21 +129,42 @@ Options parseArgs(int argc, char** argv) {
             const std::string mode = value();
             if (mode != "gl" && mode != "emulated") usageError("--sampler: '" + mode + "' is not gl or emulated");
             o.emulatedSampling = mode == "emulated";
-        } else if (a == "--csv") o.csv = value();
+        } else if (a == "--gl-platform") {
+            const std::string p = value();
+            if (p != "surfaceless" && p != "device") usageError("--gl-platform: '" + p + "' is not surfaceless or device");
+            o.platform = p == "device" ? samefr::GlPlatform::Device : samefr::GlPlatform::Surfaceless;
+        } else if (a == "--gl-device") o.glDevice = int(parseCount(a, value(), 0, 1024));
+        else if (a == "--tessera-threads") o.tesseraThreads = value();
+        else if (a == "--csv") o.csv = value();
         else if (a == "--dump") o.dumpDir = value();
         else usageError("unknown option '" + a + "'");
     }
+    if (o.glDevice >= 0 && o.platform != samefr::GlPlatform::Device) usageError("--gl-device needs --gl-platform device");
     return o;
 }
 
-// TESSERA_BENCH_THREADS="1,2,4" (default "1,2", as bench/raster_bench.cpp); bad entries exit 2.
-std::vector<std::uint32_t> benchThreadCounts() {
+// --tessera-threads LIST, else TESSERA_BENCH_THREADS="1,2,4" (default "1,2", as
+// bench/raster_bench.cpp); bad entries exit 2. With llvmpipe the counts are LP_NUM_THREADS too.
+std::vector<std::uint32_t> benchThreadCounts(const Options& o) {
     const char* env = std::getenv("TESSERA_BENCH_THREADS");
-    if (!env || !*env) return {1, 2};
-    std::vector<std::uint32_t> counts = bench::splitUints("TESSERA_BENCH_THREADS", env);
+    const std::string source = !o.tesseraThreads.empty() ? "--tessera-threads" : "TESSERA_BENCH_THREADS";
+    const std::string text = !o.tesseraThreads.empty() ? o.tesseraThreads : env ? env : "";
+    if (text.empty()) return {1, 2};
+    std::vector<std::uint32_t> counts = bench::splitUints(source, text);
+    const bool llvmpipe = o.platform == samefr::GlPlatform::Surfaceless;
+    const std::uint32_t most = llvmpipe ? 32 : 1024;
     for (std::uint32_t n : counts)
-        if (n < 1 || n > 32) usageError("TESSERA_BENCH_THREADS: " + std::to_string(n) + " is not in 1..32 (llvmpipe's LP_MAX_THREADS)");
+        if (n < 1 || n > most)
+            usageError(source + ": " + std::to_string(n) + " is not in 1.." + std::to_string(most) +
+                       (llvmpipe ? " (llvmpipe's LP_MAX_THREADS)" : ""));
+    if (counts.empty()) usageError(source + ": no thread counts");
     return counts;
+}
+
+// Where the bundled scenes are: $TESSERA_SCENES (as the tessera CLI), else the source tree's.
+fs::path scenesDir() {
+    if (const char* env = std::getenv("TESSERA_SCENES"); env && *env) return env;
+    return fs::path(TESSERA_SOURCE_DIR) / "scenes";
 }
 
 // A bundled scene loaded as `tessera render SCENE --lights N --technique ID` loads it
@@ -144,7 +179,7 @@ struct LoadedScene {
 
 std::unique_ptr<LoadedScene> loadBenchScene(const Config& c, const Options& opt) {
     auto s = std::make_unique<LoadedScene>();
-    const fs::path file = fs::path(TESSERA_SOURCE_DIR) / "scenes" / (c.scene + ".json");
+    const fs::path file = scenesDir() / (c.scene + ".json");
     s->desc = parseSceneFile(file);
     s->desc.technique = c.id;
     for (LightGeneratorSpec& g : s->desc.generators) g.count = c.lights;
@@ -176,7 +211,8 @@ struct Timings {
     double frameMs = 0.0;
 };
 
-Timings summarize(const std::vector<std::vector<samefr::PassTime>>& frames) {
+// gpu: the passes' GL_TIME_ELAPSED times (PassTime::gpuMilliseconds), else their wall times.
+Timings summarize(const std::vector<std::vector<samefr::PassTime>>& frames, bool gpu = false) {
     Timings t;
     std::map<std::string, std::vector<double>> samples;
     std::vector<double> totals;
@@ -184,8 +220,9 @@ Timings summarize(const std::vector<std::vector<samefr::PassTime>>& frames) {
         double total = 0.0;
         for (const samefr::PassTime& p : frame) {
             if (samples.find(p.name) == samples.end()) t.passes.push_back(p.name);
-            samples[p.name].push_back(p.milliseconds);
-            total += p.milliseconds;
+            const double v = gpu ? p.gpuMilliseconds : p.milliseconds;
+            samples[p.name].push_back(v);
+            total += v;
         }
         totals.push_back(total);
     }
@@ -209,6 +246,7 @@ struct LightLists {
 
 struct RunResult {
     Timings timings;
+    Timings wallTimings;  // GL with timer queries: the glFinish wall times (timings: the queries')
     Frame8 image;
     LightLists lists;  // forward-plus only
 };
@@ -259,10 +297,14 @@ RunResult runTessera(const LoadedScene& s, const Config& c, std::uint32_t thread
     return r;
 }
 
-RunResult runLlvmpipe(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations,
-                      const samefr::GlOptions& options, std::string& renderer) {
-    samefr::GlContext context(threads);  // fresh display: LP_NUM_THREADS = threads
-    renderer = context.renderer();
+struct GlInfo {
+    std::string vendor, renderer, version;
+};
+
+RunResult runGl(const LoadedScene& s, const Config& c, const samefr::GlContextOptions& contextOptions,
+                std::uint32_t iterations, const samefr::GlOptions& options, GlInfo& info) {
+    samefr::GlContext context(contextOptions);  // fresh display (llvmpipe: LP_NUM_THREADS = threads)
+    info = {context.vendor(), context.renderer(), context.version()};
     const TechniqueContext ctx = contextFor(s, nullptr);
     // The technique's own setup with its default options (demo-gl projection, demo sampler, no
     // alpha test in the forward passes): camera matrices, texture set and view-space lights.
@@ -275,7 +317,8 @@ RunResult runLlvmpipe(const LoadedScene& s, const Config& c, std::uint32_t threa
         if (i > 0) frames.push_back(std::move(times));
     }
     RunResult r;
-    r.timings = summarize(frames);
+    r.timings = summarize(frames, options.timerQueries);
+    if (options.timerQueries) r.wallTimings = summarize(frames);
     const samefr::GlImages images = gl.readBack();
     r.image.width = setup->width;
     r.image.height = setup->height;
@@ -292,7 +335,7 @@ RunResult runLlvmpipe(const LoadedScene& s, const Config& c, std::uint32_t threa
     return r;
 }
 
-// llvmpipe's image against tessera's, RGB only (the presented image ignores alpha).
+// GL's image against tessera's, RGB only (the presented image ignores alpha).
 struct DiffStats {
     int maxAbs = 0;                    // 8-bit codes, over R, G, B
     double rmse = 0.0;                 // codes, over every R, G, B value
@@ -368,7 +411,7 @@ DiffStats compare(const Frame8& tess, const Frame8& lp) {
     return d;
 }
 
-void dumpImages(const fs::path& dir, const std::string& stem, const Frame8& tess, const Frame8& lp) {
+void dumpImages(const fs::path& dir, const std::string& stem, const Frame8& tess, const Frame8& lp, const std::string& glName) {
     fs::create_directories(dir);
     const SurfaceDesc desc{tess.width, tess.height, Format::R8G8B8A8_UNORM, 1};
     Surface a(desc), b(desc), diff(desc);
@@ -378,26 +421,37 @@ void dumpImages(const fs::path& dir, const std::string& stem, const Frame8& tess
     for (std::size_t i = 0; i < tess.rgba8.size(); ++i)  // |difference| x 16, alpha opaque
         out[i] = i % 4 == 3 ? 255 : std::uint8_t(std::min(255, 16 * std::abs(int(tess.rgba8[i]) - int(lp.rgba8[i]))));
     writeSurface(withOpaqueAlpha(a), dir / (stem + "-tessera.png"));
-    writeSurface(withOpaqueAlpha(b), dir / (stem + "-llvmpipe.png"));
+    writeSurface(withOpaqueAlpha(b), dir / (stem + "-" + glName + ".png"));
     writeSurface(diff, dir / (stem + "-diff.png"));
 }
 
 struct Row {
     Config config;
     std::uint32_t threads = 0;
-    Timings tessera, llvmpipe;
+    Timings tessera, gl;  // gl: the GL side's times, llvmpipe's or the GPU's (timer queries)
+    Timings glWall;       // GPU: glFinish wall times (empty with llvmpipe)
     DiffStats diff;
 };
 
+// How the tables name the GL side.
+struct GlLabels {
+    bool gpu = false;
+    std::string name() const { return gpu ? "GPU" : "llvmpipe"; }
+    std::string csvColumn() const { return gpu ? "gpu_ms" : "llvmpipe_ms"; }
+};
+
+// Decimals of every ms value printed: 2, or 3 with a GPU (passes of a few microseconds).
+int gMsDecimals = 2;
+
 std::string ms(double v) {
     char text[32];
-    std::snprintf(text, sizeof text, "%.2f", v);
+    std::snprintf(text, sizeof text, "%.*f", gMsDecimals, v);
     return text;
 }
 
 std::vector<std::string> passUnion(const Row& r) {
     std::vector<std::string> names = r.tessera.passes;
-    for (const std::string& n : r.llvmpipe.passes)
+    for (const std::string& n : r.gl.passes)
         if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     return names;
 }
@@ -413,20 +467,31 @@ std::string ratio(const Timings& tess, const Timings& lp, const std::string& pas
     return ms(b->second / a->second);
 }
 
-void printTables(const std::vector<Row>& rows) {
-    std::printf("\n## Time per pass (median ms; ratio = llvmpipe / tessera, > 1: tessera faster)\n\n");
-    std::printf("| technique | lights | threads | pass | tessera ms | llvmpipe ms | ratio |\n");
-    std::printf("|---|---:|---:|---|---:|---:|---:|\n");
+void printTables(const std::vector<Row>& rows, const GlLabels& gl) {
+    if (gl.gpu)
+        std::printf("\n## Time per pass (median ms; GPU ms: GL_TIME_ELAPSED per pass, frame = their sum; ratio = GPU / "
+                    "tessera, > 1: tessera faster; GPU wall ms: glFinish before and after each pass)\n\n"
+                    "| technique | lights | threads | pass | tessera ms | GPU ms | ratio | GPU wall ms |\n"
+                    "|---|---:|---:|---|---:|---:|---:|---:|\n");
+    else
+        std::printf("\n## Time per pass (median ms; ratio = llvmpipe / tessera, > 1: tessera faster)\n\n"
+                    "| technique | lights | threads | pass | tessera ms | llvmpipe ms | ratio |\n"
+                    "|---|---:|---:|---|---:|---:|---:|\n");
     for (const Row& r : rows) {
-        for (const std::string& pass : passUnion(r))
-            std::printf("| %s | %u | %u | %s | %s | %s | %s |\n", r.config.id.c_str(), r.config.lights, r.threads, pass.c_str(),
-                        lookup(r.tessera, pass).c_str(), lookup(r.llvmpipe, pass).c_str(),
-                        ratio(r.tessera, r.llvmpipe, pass).c_str());
-        std::printf("| %s | %u | %u | **frame** | **%s** | **%s** | **%s** |\n", r.config.id.c_str(), r.config.lights, r.threads,
-                    ms(r.tessera.frameMs).c_str(), ms(r.llvmpipe.frameMs).c_str(),
-                    ms(r.llvmpipe.frameMs / r.tessera.frameMs).c_str());
+        for (const std::string& pass : passUnion(r)) {
+            std::printf("| %s | %u | %u | %s | %s | %s | %s |", r.config.id.c_str(), r.config.lights, r.threads, pass.c_str(),
+                        lookup(r.tessera, pass).c_str(), lookup(r.gl, pass).c_str(),
+                        ratio(r.tessera, r.gl, pass).c_str());
+            if (gl.gpu) std::printf(" %s |", lookup(r.glWall, pass).c_str());
+            std::printf("\n");
+        }
+        std::printf("| %s | %u | %u | **frame** | **%s** | **%s** | **%s** |", r.config.id.c_str(), r.config.lights, r.threads,
+                    ms(r.tessera.frameMs).c_str(), ms(r.gl.frameMs).c_str(),
+                    ms(r.gl.frameMs / r.tessera.frameMs).c_str());
+        if (gl.gpu) std::printf(" **%s** |", ms(r.glWall.frameMs).c_str());
+        std::printf("\n");
     }
-    std::printf("\n## llvmpipe back buffer against tessera's exact back buffer (R, G, B in 8-bit codes)\n\n");
+    std::printf("\n## %s back buffer against tessera's exact back buffer (R, G, B in 8-bit codes)\n\n", gl.name().c_str());
     std::printf("| technique | lights | threads | max abs | RMSE | differing px | by max diff 1 / 2-3 / 4-7 / 8-15 / 16+ | "
                 "coverage differs px | depth differs px (> 16 codes; max) | stencil differs px | light lists differ (tiles, "
                 "opaque / transparent) |\n");
@@ -446,29 +511,39 @@ void printTables(const std::vector<Row>& rows) {
     }
 }
 
-void writeCsv(const std::string& path, const std::vector<Row>& rows) {
+// With a GPU the GL column is gpu_ms (timer queries) and a last column gpu_wall_ms is added;
+// llvmpipe's CSV is as before.
+void writeCsv(const std::string& path, const std::vector<Row>& rows, const GlLabels& gl) {
     std::ofstream out(path);
     if (!out) throw std::runtime_error("cannot write " + path);
-    out << "technique,scene,lights,threads,pass,tessera_ms,llvmpipe_ms,ratio,max_abs_diff,rmse,differing_pixels,"
+    out << "technique,scene,lights,threads,pass,tessera_ms," << gl.csvColumn()
+        << ",ratio,max_abs_diff,rmse,differing_pixels,"
            "max_diff_1,max_diff_2_3,max_diff_4_7,max_diff_8_15,max_diff_16_up,coverage_differs_pixels,depth_differs_pixels,"
            "depth_differs_over_16_codes,max_depth_code_diff,stencil_differs_pixels,opaque_list_tiles_differ,"
-           "transparent_list_tiles_differ\n";
+           "transparent_list_tiles_differ"
+        << (gl.gpu ? ",gpu_wall_ms" : "") << "\n";
     for (const Row& r : rows) {
         const std::string head = r.config.id + "," + r.config.scene + "," + std::to_string(r.config.lights) + "," +
                                  std::to_string(r.threads) + ",";
         for (const std::string& pass : passUnion(r)) {
-            const std::string t = lookup(r.tessera, pass), l = lookup(r.llvmpipe, pass), q = ratio(r.tessera, r.llvmpipe, pass);
+            const std::string t = lookup(r.tessera, pass), l = lookup(r.gl, pass), q = ratio(r.tessera, r.gl, pass);
             out << head << pass << "," << (t == "-" ? "" : t) << "," << (l == "-" ? "" : l) << "," << (q == "-" ? "" : q)
-                << ",,,,,,,,,,,,,,,\n";
+                << ",,,,,,,,,,,,,,,";
+            if (gl.gpu) {
+                const std::string w = lookup(r.glWall, pass);
+                out << "," << (w == "-" ? "" : w);
+            }
+            out << "\n";
         }
         const DiffStats& d = r.diff;
-        out << head << "frame," << ms(r.tessera.frameMs) << "," << ms(r.llvmpipe.frameMs) << ","
-            << ms(r.llvmpipe.frameMs / r.tessera.frameMs) << "," << d.maxAbs << "," << d.rmse << "," << d.differingPixels << ",";
+        out << head << "frame," << ms(r.tessera.frameMs) << "," << ms(r.gl.frameMs) << ","
+            << ms(r.gl.frameMs / r.tessera.frameMs) << "," << d.maxAbs << "," << d.rmse << "," << d.differingPixels << ",";
         for (std::uint64_t n : d.byMaxDiff) out << n << ",";
         out << d.coverageDiffers << "," << d.depthDiffers << "," << d.depthFar << "," << d.maxDepthCodeDiff << ","
             << (r.config.technique == Technique::Deferred ? std::to_string(d.stencilDiffers) : std::string()) << ",";
         if (d.tiles > 0) out << d.tilesListDiffer[0] << "," << d.tilesListDiffer[1];
         else out << ",";
+        if (gl.gpu) out << "," << ms(r.glWall.frameMs);
         out << "\n";
     }
 }
@@ -477,7 +552,9 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows) {
 
 int main(int argc, char** argv) {
     const Options opt = parseArgs(argc, argv);
-    const std::vector<std::uint32_t> threadCounts = benchThreadCounts();
+    const std::vector<std::uint32_t> threadCounts = benchThreadCounts(opt);
+    const GlLabels labels{opt.platform == samefr::GlPlatform::Device};
+    if (labels.gpu) gMsDecimals = 3;
     bench::useSteadyStateAllocator();
     std::vector<Config> configs;
     for (const std::string& t : opt.techniques) {
@@ -486,22 +563,37 @@ int main(int argc, char** argv) {
         if (t == "deferred") configs.push_back({t, Technique::Deferred, "sponza-small-lights", opt.deferredLights});
     }
     std::vector<Row> rows;
-    std::string renderer;
+    GlInfo info;
     samefr::GlOptions glOptions;
     glOptions.emulatedSampling = opt.emulatedSampling;
+    glOptions.timerQueries = labels.gpu;
+    samefr::GlContextOptions contextOptions;
+    contextOptions.platform = opt.platform;
+    contextOptions.device = opt.glDevice;
+    const std::string glName = labels.gpu ? "gpu" : "llvmpipe";
     try {
         for (const Config& c : configs) {
             std::fprintf(stderr, "loading %s with %u lights for %s...\n", c.scene.c_str(), c.lights, c.id.c_str());
             const std::unique_ptr<LoadedScene> scene = loadBenchScene(c, opt);
+            RunResult gpu;  // a GPU's run, once per technique: thread counts are tessera's alone
+            if (labels.gpu) {
+                std::fprintf(stderr, "  %s: GPU...\n", c.id.c_str());
+                gpu = runGl(*scene, c, contextOptions, opt.iterations, glOptions, info);
+            }
             for (std::uint32_t threads : threadCounts) {
                 std::fprintf(stderr, "  %s, %u thread(s): tessera...\n", c.id.c_str(), threads);
                 RunResult tess = runTessera(*scene, c, threads, opt.iterations);
-                std::fprintf(stderr, "  %s, %u thread(s): llvmpipe...\n", c.id.c_str(), threads);
-                RunResult lp = runLlvmpipe(*scene, c, threads, opt.iterations, glOptions, renderer);
-                Row row{c, threads, tess.timings, lp.timings, compare(tess.image, lp.image)};
+                RunResult llvmpipe;
+                if (!labels.gpu) {
+                    std::fprintf(stderr, "  %s, %u thread(s): llvmpipe...\n", c.id.c_str(), threads);
+                    contextOptions.threads = threads;
+                    llvmpipe = runGl(*scene, c, contextOptions, opt.iterations, glOptions, info);
+                }
+                const RunResult& lp = labels.gpu ? gpu : llvmpipe;
+                Row row{c, threads, tess.timings, lp.timings, lp.wallTimings, compare(tess.image, lp.image)};
                 compareLists(tess.lists, lp.lists, row.diff);
                 if (!opt.dumpDir.empty())
-                    dumpImages(opt.dumpDir, c.id + "-t" + std::to_string(threads), tess.image, lp.image);
+                    dumpImages(opt.dumpDir, c.id + "-t" + std::to_string(threads), tess.image, lp.image, glName);
                 rows.push_back(std::move(row));
             }
         }
@@ -511,9 +603,11 @@ int main(int argc, char** argv) {
     }
     std::printf("# Same frame: tessera (exact) vs %s, 1280x720 Sponza, %u timed frames after 1 warm-up; tessera forward-plus "
                 "culling %s%s\n",
-                renderer.c_str(), opt.iterations, opt.forwardPlusCulling.c_str(),
-                opt.emulatedSampling ? "; llvmpipe with --sampler emulated (diagnostic: times not comparable)" : "");
-    printTables(rows);
-    if (!opt.csv.empty()) writeCsv(opt.csv, rows);
+                info.renderer.c_str(), opt.iterations, opt.forwardPlusCulling.c_str(),
+                opt.emulatedSampling ? ("; " + glName + " with --sampler emulated (diagnostic: times not comparable)").c_str() : "");
+    std::printf("\nGL platform %s; GL_VENDOR %s; GL_RENDERER %s; GL_VERSION %s\n", labels.gpu ? "device" : "surfaceless",
+                info.vendor.c_str(), info.renderer.c_str(), info.version.c_str());
+    printTables(rows, labels);
+    if (!opt.csv.empty()) writeCsv(opt.csv, rows, labels);
     return 0;
 }

@@ -180,6 +180,8 @@ struct GlRenderer::Impl {
            tGridBuffer = 0;
 
     std::vector<std::pair<std::string, std::function<void()>>> passes;
+    bool timerQueries = false;
+    std::vector<GLuint> queries;  // GL_TIME_ELAPSED, one per pass (timerQueries only)
 
     void uploadScene(const SceneResources& res);
     void uploadLights(const SceneResources& res);
@@ -750,6 +752,7 @@ void GlRenderer::Impl::destroy() {
     glDeleteTextures(GLsizei(std::size(targets)), targets);
     const GLuint fbos[] = {mainFbo, gbufferFbo};
     glDeleteFramebuffers(2, fbos);
+    if (!queries.empty()) glDeleteQueries(GLsizei(queries.size()), queries.data());
 }
 
 GlRenderer::GlRenderer(const SceneResources& resources, const ForwardPassSetup& setup, Technique technique,
@@ -758,6 +761,7 @@ GlRenderer::GlRenderer(const SceneResources& resources, const ForwardPassSetup& 
     mImpl->defines = std::string("#define EMULATED_SAMPLING ") + (options.emulatedSampling ? "1" : "0") + "\n";
     Impl& im = *mImpl;
     im.technique = technique;
+    im.timerQueries = options.timerQueries;
     im.setup = &setup;
     im.width = setup.width;
     im.height = setup.height;
@@ -773,6 +777,10 @@ GlRenderer::GlRenderer(const SceneResources& resources, const ForwardPassSetup& 
     im.uploadLights(resources);
     im.makePrograms();
     im.buildPasses();
+    if (im.timerQueries) {
+        im.queries.resize(im.passes.size());
+        glCreateQueries(GL_TIME_ELAPSED, GLsizei(im.queries.size()), im.queries.data());
+    }
     glFinish();
     checkGl("setup");
 }
@@ -780,15 +788,25 @@ GlRenderer::GlRenderer(const SceneResources& resources, const ForwardPassSetup& 
 GlRenderer::~GlRenderer() { mImpl->destroy(); }
 
 std::vector<PassTime> GlRenderer::renderFrame() {
+    Impl& im = *mImpl;
     std::vector<PassTime> times;
     glFinish();
-    for (const auto& [name, run] : mImpl->passes) {
+    for (std::size_t i = 0; i < im.passes.size(); ++i) {
+        const auto& [name, run] = im.passes[i];
         const auto t0 = std::chrono::steady_clock::now();
+        if (im.timerQueries) glBeginQuery(GL_TIME_ELAPSED, im.queries[i]);
         run();
+        if (im.timerQueries) glEndQuery(GL_TIME_ELAPSED);
         glFinish();
         const auto t1 = std::chrono::steady_clock::now();
         times.push_back({name, std::chrono::duration<double, std::milli>(t1 - t0).count()});
     }
+    if (im.timerQueries)  // every pass has finished: the results are available without a stall
+        for (std::size_t i = 0; i < im.passes.size(); ++i) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(im.queries[i], GL_QUERY_RESULT, &ns);
+            times[i].gpuMilliseconds = double(ns) * 1e-6;
+        }
     checkGl("frame");
     return times;
 }

@@ -1,7 +1,9 @@
-// The llvmpipe side of the same-frame benchmark: draws tessera's scene (its draw items, decoded
-// mip chains, view-space lights, camera matrices and light volumes) through OpenGL 4.5 core with
-// the GLSL of shaders.h, pass for pass as tessera's forward, deferred and forward-plus frames,
-// timing each pass with glFinish around it and reading back colour, depth and stencil.
+// The GL side of the same-frame benchmark (llvmpipe, or a GPU driver with --gl-platform device):
+// draws tessera's scene (its draw items, decoded mip chains, view-space lights, camera matrices
+// and light volumes) through OpenGL 4.5 core with the GLSL of shaders.h, pass for pass as
+// tessera's forward, deferred and forward-plus frames,
+// timing each pass with glFinish around it (and, optionally, a GL_TIME_ELAPSED query: the GPU's
+// execution time of the pass) and reading back colour, depth and stencil.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +20,8 @@ enum class Technique { Forward, ForwardPlus, Deferred };
 
 struct PassTime {
     std::string name;   // tessera's pass name
-    double milliseconds = 0.0;
+    double milliseconds = 0.0;      // wall clock, glFinish before and after the pass
+    double gpuMilliseconds = -1.0;  // GL_TIME_ELAPSED query (GlOptions::timerQueries), else < 0
 };
 
 // Read-back in D3D row order (row 0 at the top), width * height entries.
@@ -32,6 +35,8 @@ struct GlOptions {
     // texelFetch (shaders.h sampleSlot) instead of llvmpipe's sampler. Attributes image
     // differences; its timings are not llvmpipe's sampler's.
     bool emulatedSampling = false;
+    // Also time every pass with a GL_TIME_ELAPSED query (PassTime::gpuMilliseconds).
+    bool timerQueries = false;
 };
 
 // Forward+ light lists as the culling dispatch left them: grids of (offset, count) per tile,
@@ -53,7 +58,8 @@ public:
     GlRenderer(const GlRenderer&) = delete;
     GlRenderer& operator=(const GlRenderer&) = delete;
 
-    // One frame: every pass between glFinish calls, timed on the wall clock.
+    // One frame: every pass between glFinish calls, timed on the wall clock (and by a timer query
+    // with GlOptions::timerQueries).
     std::vector<PassTime> renderFrame();
     GlImages readBack() const;
     // Forward+ only (empty otherwise).
