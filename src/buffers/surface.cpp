@@ -88,6 +88,11 @@ void Surface::clearUint(const glm::uvec4& value) {
 }
 
 void Surface::clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil) {
+    clearDepthStencilRect(0, 0, mDesc.width, mDesc.height, clearDepth, depth, clearStencil, stencil);
+}
+
+void Surface::clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uint32_t x1, std::uint32_t y1, bool clearDepth,
+                                    float depth, bool clearStencil, std::uint8_t stencil) {
     const FormatInfo& info = formatInfo(mDesc.format);
     if (!info.hasDepth) throw std::invalid_argument("clearDepthStencil on " + std::string(info.name));
     // D3D11 ClearDepthStencilView: depth is clamped to [0,1] before conversion.
@@ -117,7 +122,17 @@ void Surface::clearDepthStencil(bool clearDepth, float depth, bool clearStencil,
             set[4] = std::byte{stencil};
         }
     }
-    maskedFill(mBytes, keep, set, mBytesPerTexel);
+    x1 = std::min(x1, mDesc.width);
+    y1 = std::min(y1, mDesc.height);
+    if (x0 >= x1 || y0 >= y1) return;
+    if (x0 == 0 && x1 == mDesc.width) {  // whole rows: one contiguous run
+        const std::size_t rowBytes = std::size_t(mDesc.width) * mDesc.sampleCount * mBytesPerTexel;
+        maskedFill(std::span<std::byte>(mBytes).subspan(y0 * rowBytes, (y1 - y0) * rowBytes), keep, set, mBytesPerTexel);
+        return;
+    }
+    for (std::uint32_t y = y0; y < y1; ++y)  // a row's samples of x0..x1 are contiguous
+        maskedFillScalar(std::span<std::byte>(texel(x0, y), std::size_t(x1 - x0) * mDesc.sampleCount * mBytesPerTexel), keep, set,
+                         mBytesPerTexel);
 }
 
 Surface Surface::resolve(Format format) const {

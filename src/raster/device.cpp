@@ -23,6 +23,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     psInvocations += o.psInvocations;
     samplesPassed += o.samplesPassed;
     for (const auto& [path, draws] : o.paths) paths[path] += draws;
+    touched = unite(touched, o.touched);
     return *this;
 }
 

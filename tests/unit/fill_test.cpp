@@ -73,3 +73,23 @@ TEST_CASE("Surface clears equal the texel-by-texel encode for colour, uint and d
         CHECK(std::abs(s.loadDepth(0, 0, 0) - 0.25f) < 1e-6f);
     }
 }
+
+TEST_CASE("clearDepthStencilRect clears exactly the rectangle's texels, all samples, and clamps to the surface") {
+    for (const Format f : {Format::D24_UNORM_S8_UINT, Format::D32_FLOAT_S8X24_UINT}) {
+        Surface s({23, 11, f, 2}), expected({23, 11, f, 2});
+        s.clearDepthStencil(true, 0.75f, true, 9);
+        expected.clearDepthStencil(true, 0.75f, true, 9);
+        s.clearDepthStencilRect(3, 2, 40, 7, false, 0.0f, true, 200);  // x1 past the width: clamped
+        s.clearDepthStencilRect(5, 5, 5, 9, true, 0.0f, true, 1);      // empty: nothing
+        bool inside = true, outside = true;
+        for (std::uint32_t y = 0; y < 11; ++y)
+            for (std::uint32_t x = 0; x < 23; ++x)
+                for (std::uint32_t i = 0; i < 2; ++i) {
+                    const bool in = x >= 3 && y >= 2 && y < 7;
+                    if (in) inside = inside && s.loadStencil(x, y, i) == 200 && s.loadDepth(x, y, i) == expected.loadDepth(x, y, i);
+                    else outside = outside && std::memcmp(s.texel(x, y, i), expected.texel(x, y, i), s.bytesPerTexel()) == 0;
+                }
+        CHECK(inside);
+        CHECK(outside);
+    }
+}

@@ -60,6 +60,10 @@ public:
     void clearUint(const glm::uvec4& value);
     // ClearDepthStencilView: depth converted to the format (D24 quantized), stencil as given.
     void clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil);
+    // The same clear on the texels (all samples) of pixels x0 <= x < x1, y0 <= y < y1 only
+    // (clamped to the surface), as D3D11.1's ClearView with a rectangle does.
+    void clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uint32_t x1, std::uint32_t y1, bool clearDepth,
+                               float depth, bool clearStencil, std::uint8_t stencil);
 
     // ResolveSubresource for float-convertible formats: the average of the samples of each
     // pixel, accumulated in float in sample order, into a single-sample surface of `format`.

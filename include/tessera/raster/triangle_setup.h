@@ -19,6 +19,14 @@ struct PixelRect {
     bool empty() const { return minX >= maxX || minY >= maxY; }
 };
 
+// The smallest rectangle holding both (an empty one adds nothing).
+inline PixelRect unite(const PixelRect& a, const PixelRect& b) {
+    if (a.empty()) return b;
+    if (b.empty()) return a;
+    return {a.minX < b.minX ? a.minX : b.minX, a.minY < b.minY ? a.minY : b.minY, a.maxX > b.maxX ? a.maxX : b.maxX,
+            a.maxY > b.maxY ? a.maxY : b.maxY};
+}
+
 // One triangle ready to rasterize, oriented so that its doubled signed area is positive
 // (clockwise in window space, y down) whatever its facing.
 //   E_i(P) = A_i * (P.x - X_i) + B_i * (P.y - Y_i), edge i runs from vertex i+1 to i+2

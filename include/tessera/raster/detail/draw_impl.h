@@ -559,6 +559,8 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         for (std::uint32_t first = 0; first < triangleCount; first += std::min(detail::kBatchTriangles, triangleCount - first)) {
             const std::uint32_t end = first + std::min(detail::kBatchTriangles, triangleCount - first);
             detail::setupAll<V>(first, end, ctx, fetch, chunks, stats.setup);
+            for (const detail::SetupChunk& chunk : chunks)
+                for (const SetupTriangle& tri : chunk.tris) stats.touched = unite(stats.touched, tri.bounds);
             const detail::TileBins bins = detail::binTriangles(chunks, dt.width, dt.height, mConfig.tileSize);
             const std::size_t nTiles = bins.tileCount();
             counters.resize(nTiles);
