@@ -96,6 +96,12 @@ void setCounters(benchmark::State& state, const Scene& s) {
     state.counters["Mpix/s"] = benchmark::Counter(frames * s.pixelsPerFrame / 1e6, benchmark::Counter::kIsRate);
 }
 
+// tessera's tile size: $TESSERA_BENCH_TILE (px), else DeviceConfig's default.
+std::uint32_t benchTileSize() {
+    const char* env = std::getenv("TESSERA_BENCH_TILE");
+    return env && *env ? std::uint32_t(std::strtoul(env, nullptr, 10)) : DeviceConfig{}.tileSize;
+}
+
 // Each iteration clears colour and depth-stencil and draws the workload: the clear is inside
 // the timing, as it is in GlPeer::timeRender (clear + draws + glFinish).
 void BM_Tessera(benchmark::State& state) {
@@ -104,7 +110,7 @@ void BM_Tessera(benchmark::State& state) {
     const Scene& s = scene(workload);
     const Format dsFormat = workload == kTinyD24 ? Format::D24_UNORM_S8_UINT : Format::D32_FLOAT_S8X24_UINT;
     Surface color({kWidth, kHeight, Format::R8G8B8A8_UNORM, 1}), depth({kWidth, kHeight, dsFormat, 1});
-    Device dev(DeviceConfig{64, threads});
+    Device dev(DeviceConfig{benchTileSize(), threads});
     RenderTargets rt;
     rt.colors[0] = &color;
     rt.depthStencil = &depth;

@@ -55,6 +55,7 @@ options:
   --tessera-threads LIST   tessera's thread counts, e.g. 1,2,4,8 (overrides TESSERA_BENCH_THREADS)
   --techniques LIST        forward,forward-plus,deferred (default: all three)
   --iterations N           timed frames after one warm-up frame, 1..1000 (default 3)
+  --tile T                 tessera's tile size in px (DeviceConfig::tileSize), even, 8..1024 (default 64)
   --forward-lights N       sponza-large-lights light count for forward (default 64)
   --forward-plus-lights N  sponza-small-lights light count for forward-plus (default 1024)
   --deferred-lights N      sponza-small-lights light count for deferred (default 256)
@@ -80,6 +81,7 @@ struct Config {
 struct Options {
     std::vector<std::string> techniques{"forward", "forward-plus", "deferred"};
     std::uint32_t iterations = 3;
+    std::uint32_t tileSize = 64;  // px
     std::uint32_t forwardLights = 64, forwardPlusLights = 1024, deferredLights = 256;
     std::string csv, dumpDir;
     bool emulatedSampling = false;
@@ -118,6 +120,7 @@ Options parseArgs(int argc, char** argv) {
                 if (t != "forward" && t != "forward-plus" && t != "deferred")
                     usageError("--techniques: '" + t + "' is not forward, forward-plus or deferred");
         } else if (a == "--iterations") o.iterations = parseCount(a, value(), 1, 1000);
+        else if (a == "--tile") o.tileSize = parseCount(a, value(), 8, 1024);
         else if (a == "--forward-lights") o.forwardLights = parseCount(a, value(), 1, 1000000);
         else if (a == "--forward-plus-lights") o.forwardPlusLights = parseCount(a, value(), 1, 1000000);
         else if (a == "--deferred-lights") o.deferredLights = parseCount(a, value(), 1, 1000000);
@@ -257,8 +260,9 @@ std::vector<std::uint32_t> surfaceWords(const Surface& s) {
     return words;
 }
 
-RunResult runTessera(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations) {
-    Device device(DeviceConfig{64, threads});
+RunResult runTessera(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations,
+                     std::uint32_t tileSize) {
+    Device device(DeviceConfig{tileSize, threads});
     const TechniqueContext ctx = contextFor(s, &device);
     const tessera::Frame frame = buildTechnique(c.id, ctx, ctx.sceneFile);
     std::vector<std::vector<samefr::PassTime>> frames;
@@ -582,7 +586,7 @@ int main(int argc, char** argv) {
             }
             for (std::uint32_t threads : threadCounts) {
                 std::fprintf(stderr, "  %s, %u thread(s): tessera...\n", c.id.c_str(), threads);
-                RunResult tess = runTessera(*scene, c, threads, opt.iterations);
+                RunResult tess = runTessera(*scene, c, threads, opt.iterations, opt.tileSize);
                 RunResult llvmpipe;
                 if (!labels.gpu) {
                     std::fprintf(stderr, "  %s, %u thread(s): llvmpipe...\n", c.id.c_str(), threads);
