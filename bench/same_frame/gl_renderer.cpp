@@ -148,6 +148,17 @@ struct VolumeDraw {
 
 GLenum frontFaceFor(bool d3dFrontCounterClockwise) { return d3dFrontCounterClockwise ? GL_CW : GL_CCW; }
 
+// The opaque passes' culling (forward.cpp): cull back, glTF doubleSided none; the item's winding.
+void applyCulling(const DrawRecord& d) {
+    if (d.doubleSided) {
+        glDisable(GL_CULL_FACE);
+    } else {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+    }
+    glFrontFace(frontFaceFor(d.frontCounterClockwise));
+}
+
 } // namespace
 
 struct GlRenderer::Impl {
@@ -540,14 +551,8 @@ void GlRenderer::Impl::drawForwardPass(bool transparentPass, GLenum depthFunc, b
     }
     for (const DrawRecord& d : draws) {
         if (d.transparent != transparentPass) continue;
-        if (!transparentPass) {
-            if (d.doubleSided) glDisable(GL_CULL_FACE);
-            else {
-                glEnable(GL_CULL_FACE);
-                glCullFace(GL_BACK);
-            }
-        }
-        glFrontFace(frontFaceFor(d.frontCounterClockwise));
+        if (!transparentPass) applyCulling(d);
+        else glFrontFace(frontFaceFor(d.frontCounterClockwise));
         setMaterial(phongLoc, d, d.alphaTestForward);
         bindDrawTextures(d);
         drawItem(d);
@@ -570,12 +575,7 @@ void GlRenderer::Impl::drawPrepass() const {
     for (const DrawRecord& d : draws) {
         if (d.transparent) continue;
         if (d.alphaTestForward) throw std::runtime_error("same_frame: an alpha-tested depth pre-pass is not implemented");
-        if (d.doubleSided) glDisable(GL_CULL_FACE);
-        else {
-            glEnable(GL_CULL_FACE);
-            glCullFace(GL_BACK);
-        }
-        glFrontFace(frontFaceFor(d.frontCounterClockwise));
+        applyCulling(d);
         glUniformMatrix4fv(prepassClip, 1, GL_FALSE, glm::value_ptr(d.clipFromObject));
         glUniformMatrix4fv(prepassView, 1, GL_FALSE, glm::value_ptr(d.viewFromObject));
         drawItem(d);
@@ -600,12 +600,7 @@ void GlRenderer::Impl::drawGBuffer() const {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     for (const DrawRecord& d : draws) {
         if (d.transparent) continue;
-        if (d.doubleSided) glDisable(GL_CULL_FACE);
-        else {
-            glEnable(GL_CULL_FACE);
-            glCullFace(GL_BACK);
-        }
-        glFrontFace(frontFaceFor(d.frontCounterClockwise));
+        applyCulling(d);
         setMaterial(gbufferLoc, d, d.alphaTestGBuffer);
         bindDrawTextures(d);
         drawItem(d);
