@@ -56,8 +56,18 @@ bool shadePhong(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in
     PhongSurface<T> s;
     if (!gatherPhongSurface<T, F>(d, in, s)) return false;
     const Vec4<T> posView(Vec3<T>(in.varyings.posView), T(1));
-    const LightingResult<T> lit = d.tileLights ? doLightingTile<T, kFast>(d, in.posWindow, s.specularPower, posView, s.normalView)
-                                               : doLighting<T, kFast>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
+    LightingResult<T> lit;
+    if constexpr (kFast && std::is_same_v<T, float>) {
+        if (d.fastLights && !d.tileLights) {
+            lit = fastLighting(*d.fastLights, s.specularPower, in.varyings.posView, glm::vec3(s.normalView), s.specularPower > 1.0f);
+        } else {
+            lit = d.tileLights ? doLightingTile<T, kFast>(d, in.posWindow, s.specularPower, posView, s.normalView)
+                               : doLighting<T, kFast>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
+        }
+    } else {
+        lit = d.tileLights ? doLightingTile<T, kFast>(d, in.posWindow, s.specularPower, posView, s.normalView)
+                           : doLighting<T, kFast>(d.lights, s.specularPower, posView, s.normalView, s.specularPower > T(1));
+    }
 
     const Vec4<T> diffuse = s.diffuse * Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));  // lighting alpha discarded
     // specular ignored for power <= 1

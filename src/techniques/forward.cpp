@@ -30,6 +30,7 @@ void drawItem(Device& device, const DrawState& state, const RenderTargets& targe
     else lights = setup.lightsReference;
     PhongShaderData<T> data = makePhongShaderData<T>(material, *setup.textures, lights);
     data.tileLights = tileLights;
+    if constexpr (std::is_same_v<T, float>) data.fastLights = setup.fastLights.get();
     const PhongVariant variant = selectPhongVariant<T>(phongFeatures(material, setup.alphaTest));
     PhongShadeFn<T> shade;
     const bool fast = setup.precision == Precision::Fast;
@@ -86,6 +87,7 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     // Float lights always (the techniques' culling reads them), double ones for reference shading.
     setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
     if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
+    if (ctx.precision == Precision::Fast) setup->fastLights = std::make_shared<const FastLightSet>(FastLightSet::build(setup->lightsExact));
     return setup;
 }
 

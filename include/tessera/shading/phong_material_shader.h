@@ -19,6 +19,7 @@
 #include <tessera/scene/phong_material.h>
 #include <tessera/scene/scene.h>
 #include <tessera/shaders/shader_stages.h>
+#include <tessera/shading/fast_lighting.h>
 #include <tessera/shading/phong_lighting.h>
 #include <tessera/scene/scene_resources.h>
 #include <tessera/texture/texture2d.h>
@@ -144,6 +145,8 @@ struct PhongShaderData {
     std::span<const ViewLight<T>> lights;
     // Forward+: loop over this tile list instead of every light (null: every light, forward).
     const TileLightList* tileLights = nullptr;
+    // Precision fast, every light (no tile list): the SIMD light loop over these (fast_lighting.h).
+    const FastLightSet* fastLights = nullptr;
 };
 
 // Returns false when the pixel is discarded; otherwise `color` is PS_main's return value.

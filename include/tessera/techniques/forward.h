@@ -64,6 +64,7 @@ struct ForwardPassSetup {
     std::unique_ptr<PhongTextureSet> textures;
     std::vector<ViewLight<float>> lightsExact;
     std::vector<ViewLight<double>> lightsReference;
+    std::shared_ptr<const FastLightSet> fastLights;  // precision fast: lightsExact as arrays
 };
 
 // The setup of `context` (its camera, size, precision and scene lights in scene order).
