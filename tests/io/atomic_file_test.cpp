@@ -3,6 +3,8 @@
 // rename reports its real cause, and the same surface always gives the same bytes.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <csignal>
@@ -29,7 +31,8 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratchDir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "tessera-atomic-file-test" / name;
+    // Per process: two builds' test runs at once must not share (and remove_all) each other's files.
+    const fs::path dir = fs::temp_directory_path() / ("tessera-atomic-file-test-" + std::to_string(::getpid())) / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;

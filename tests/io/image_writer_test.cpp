@@ -3,6 +3,8 @@
 // rounds as binary16 does, and refused pairings or failed writes leave no file behind.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -18,8 +20,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// One folder per test process: ctest runs these cases as parallel processes, and a shared folder
+// let one case see another's temporary ".partial" file (noPartialFiles).
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / "tessera-image-writer-test";
+    const fs::path dir = fs::temp_directory_path() / ("tessera-image-writer-test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     return dir / name;
 }
