@@ -56,6 +56,8 @@ options:
   --techniques LIST        forward,forward-plus,deferred (default: all three)
   --iterations N           timed frames after one warm-up frame, 1..1000 (default 3)
   --tile T                 tessera's tile size in px (DeviceConfig::tileSize), even, 8..1024 (default 64)
+  --precision MODE         tessera's precision: exact (default) or fast (reference's double shading
+                           is the yardstick, not a rival: compare it with `tessera diff`)
   --forward-lights N       sponza-large-lights light count for forward (default 64)
   --forward-plus-lights N  sponza-small-lights light count for forward-plus (default 1024)
   --deferred-lights N      sponza-small-lights light count for deferred (default 256)
@@ -82,6 +84,7 @@ struct Options {
     std::vector<std::string> techniques{"forward", "forward-plus", "deferred"};
     std::uint32_t iterations = 3;
     std::uint32_t tileSize = 64;  // px
+    Precision precision = Precision::Exact;
     std::uint32_t forwardLights = 64, forwardPlusLights = 1024, deferredLights = 256;
     std::string csv, dumpDir;
     bool emulatedSampling = false;
@@ -121,6 +124,12 @@ Options parseArgs(int argc, char** argv) {
                     usageError("--techniques: '" + t + "' is not forward, forward-plus or deferred");
         } else if (a == "--iterations") o.iterations = parseCount(a, value(), 1, 1000);
         else if (a == "--tile") o.tileSize = parseCount(a, value(), 8, 1024);
+        else if (a == "--precision") {
+            const std::string mode = value();
+            if (mode == "exact") o.precision = Precision::Exact;
+            else if (mode == "fast") o.precision = Precision::Fast;
+            else usageError("--precision: '" + mode + "' is not exact or fast");
+        }
         else if (a == "--forward-lights") o.forwardLights = parseCount(a, value(), 1, 1000000);
         else if (a == "--forward-plus-lights") o.forwardPlusLights = parseCount(a, value(), 1, 1000000);
         else if (a == "--deferred-lights") o.deferredLights = parseCount(a, value(), 1, 1000000);
@@ -261,9 +270,10 @@ std::vector<std::uint32_t> surfaceWords(const Surface& s) {
 }
 
 RunResult runTessera(const LoadedScene& s, const Config& c, std::uint32_t threads, std::uint32_t iterations,
-                     std::uint32_t tileSize) {
+                     std::uint32_t tileSize, Precision precision) {
     Device device(DeviceConfig{tileSize, threads});
-    const TechniqueContext ctx = contextFor(s, &device);
+    TechniqueContext ctx = contextFor(s, &device);
+    ctx.precision = precision;
     const tessera::Frame frame = buildTechnique(c.id, ctx, ctx.sceneFile);
     std::vector<std::vector<samefr::PassTime>> frames;
     RunResult r;
@@ -586,7 +596,7 @@ int main(int argc, char** argv) {
             }
             for (std::uint32_t threads : threadCounts) {
                 std::fprintf(stderr, "  %s, %u thread(s): tessera...\n", c.id.c_str(), threads);
-                RunResult tess = runTessera(*scene, c, threads, opt.iterations, opt.tileSize);
+                RunResult tess = runTessera(*scene, c, threads, opt.iterations, opt.tileSize, opt.precision);
                 RunResult llvmpipe;
                 if (!labels.gpu) {
                     std::fprintf(stderr, "  %s, %u thread(s): llvmpipe...\n", c.id.c_str(), threads);
@@ -605,9 +615,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "same_frame_bench: %s\n", e.what());
         return 1;
     }
-    std::printf("# Same frame: tessera (exact) vs %s, 1280x720 Sponza, %u timed frames after 1 warm-up; tessera forward-plus "
+    std::printf("# Same frame: tessera (%s) vs %s, 1280x720 Sponza, %u timed frames after 1 warm-up; tessera forward-plus "
                 "culling %s%s\n",
-                info.renderer.c_str(), opt.iterations, opt.forwardPlusCulling.c_str(),
+                std::string(precisionName(opt.precision)).c_str(), info.renderer.c_str(), opt.iterations, opt.forwardPlusCulling.c_str(),
                 opt.emulatedSampling ? ("; " + glName + " with --sampler emulated (diagnostic: times not comparable)").c_str() : "");
     std::printf("\nGL platform %s; GL_VENDOR %s; GL_RENDERER %s; GL_VERSION %s\n", labels.gpu ? "device" : "surfaceless",
                 info.vendor.c_str(), info.renderer.c_str(), info.version.c_str());
