@@ -96,13 +96,17 @@ void maskedFill(std::span<std::byte> bytes, const std::byte* keep, const std::by
     std::memcpy(keep4, keepPeriod, sizeof(keep4));
     std::memcpy(set4, setPeriod, sizeof(set4));
     const std::size_t whole = bytes.size() / kPeriodBytes * kPeriodBytes;
-    const std::size_t blocks = (whole + kBlockBytes - 1) / kBlockBytes;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t b = r.begin(); b != r.end(); ++b) {
-            const std::size_t begin = b * kBlockBytes, end = std::min(whole, begin + kBlockBytes);
-            HWY_DYNAMIC_DISPATCH(MaskedFillWords)(bytes.data() + begin, (end - begin) / 4, keep4, set4);
-        }
-    });
+    if (whole <= kBlockBytes) {  // one block (a row of a rectangle clear): no task to spawn
+        HWY_DYNAMIC_DISPATCH(MaskedFillWords)(bytes.data(), whole / 4, keep4, set4);
+    } else {
+        const std::size_t blocks = (whole + kBlockBytes - 1) / kBlockBytes;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t b = r.begin(); b != r.end(); ++b) {
+                const std::size_t begin = b * kBlockBytes, end = std::min(whole, begin + kBlockBytes);
+                HWY_DYNAMIC_DISPATCH(MaskedFillWords)(bytes.data() + begin, (end - begin) / 4, keep4, set4);
+            }
+        });
+    }
     if (whole < bytes.size()) maskedFillScalar(bytes.subspan(whole), keepPeriod, setPeriod, texelBytes);
 }
 

@@ -125,14 +125,15 @@ void Surface::clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uin
     x1 = std::min(x1, mDesc.width);
     y1 = std::min(y1, mDesc.height);
     if (x0 >= x1 || y0 >= y1) return;
+    const std::size_t rowBytes = std::size_t(mDesc.width) * mDesc.sampleCount * mBytesPerTexel;
     if (x0 == 0 && x1 == mDesc.width) {  // whole rows: one contiguous run
-        const std::size_t rowBytes = std::size_t(mDesc.width) * mDesc.sampleCount * mBytesPerTexel;
         maskedFill(std::span<std::byte>(mBytes).subspan(y0 * rowBytes, (y1 - y0) * rowBytes), keep, set, mBytesPerTexel);
         return;
     }
-    for (std::uint32_t y = y0; y < y1; ++y)  // a row's samples of x0..x1 are contiguous
-        maskedFillScalar(std::span<std::byte>(texel(x0, y), std::size_t(x1 - x0) * mDesc.sampleCount * mBytesPerTexel), keep, set,
-                         mBytesPerTexel);
+    // A row's samples of x0..x1 are contiguous (and 4-byte aligned: depth texels are 4 or 8 bytes).
+    const std::size_t runBytes = std::size_t(x1 - x0) * mDesc.sampleCount * mBytesPerTexel;
+    for (std::uint32_t y = y0; y < y1; ++y)
+        maskedFill(std::span<std::byte>(texel(x0, y), runBytes), keep, set, mBytesPerTexel);
 }
 
 Surface Surface::resolve(Format format) const {

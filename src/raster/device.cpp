@@ -23,7 +23,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     psInvocations += o.psInvocations;
     samplesPassed += o.samplesPassed;
     for (const auto& [path, draws] : o.paths) paths[path] += draws;
-    touched = unite(touched, o.touched);
+    setup.touched = unite(setup.touched, o.setup.touched);
     return *this;
 }
 

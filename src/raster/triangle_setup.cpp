@@ -177,6 +177,7 @@ void emitTriangle(const SetupContext& ctx, const glm::vec4 pos[3], const float* 
     }
     out.push_back(t);
     ++stats.trianglesOut;
+    stats.touched = unite(stats.touched, r);
 }
 
 } // namespace

@@ -246,15 +246,12 @@ struct ComposePS {
     }
 };
 
-// Writes a float target to the back buffer as the output merger converts a PS value to
-// R8G8B8A8_UNORM without blending: NaN -> 0, clamp to [0, 1], round (D3D11.3 §3.2.3.6).
-void presentToBackBuffer(const Surface& from, Surface& backbuffer) {
-    for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
-        for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
-            glm::vec4 v = from.load(x, y);
-            for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
-            backbuffer.store(x, y, 0, v);
-        }
+// Writes a float target into `to` as the output merger converts a PS value for an UNORM target
+// without blending: NaN -> 0, clamp to [0, 1] (D3D11.3 §3.2.3.6), then `to`'s own encode (the
+// 8-bit rounding for the back buffer; none for precision reference's float copy). `from` may be `to`.
+void storeAsUnorm(const Surface& from, Surface& to) {
+    for (std::uint32_t y = 0; y < to.height(); ++y)
+        for (std::uint32_t x = 0; x < to.width(); ++x) to.store(x, y, 0, convert::clampUnorm(from.load(x, y)));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -342,7 +339,7 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
 }
 
 // DeferredLightingPass::Render clears the whole stencil before every light. Only pixels that the
-// draws since the last clear touched (DrawStats::touched) can hold anything but the clear value,
+// draws since the last clear touched (SetupStats::touched) can hold anything but the clear value,
 // so clearing their bounding rectangle leaves the same bytes at a fraction of the cost (a whole
 // D24S8 buffer per light at 1280x720 is 3.7 MB of writes).
 class StencilClears {
@@ -359,7 +356,7 @@ public:
         mValue = value;
         mDirty = PixelRect{};
     }
-    void drew(const DrawStats& s) { mDirty = unite(mDirty, s.touched); }
+    void drew(const DrawStats& s) { mDirty = unite(mDirty, s.setup.touched); }
 
 private:
     Surface& mDepth;
@@ -550,16 +547,11 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     const bool reference = ctx.precision == Precision::Reference;
     if (setup->separateAccumulation) {
         // The accumulation target to the back buffer as the output merger converts a PS value
-        // to R8G8B8A8_UNORM without blending: NaN -> 0, clamp to [0, 1], round (D3D11.3 §3.2.3.6).
-        // Precision reference also keeps the float values in the reference buffer.
+        // to R8G8B8A8_UNORM (storeAsUnorm); precision reference also keeps the clamped float values.
         frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [reference](BufferRegistry& reg) {
                        const Surface& accumulation = reg.get("accumulation");
-                       presentToBackBuffer(accumulation, reg.get(kBackBufferName));
-                       if (reference) {
-                           Surface& copy = reg.get(kReferenceBufferName);
-                           for (std::uint32_t y = 0; y < copy.height(); ++y)
-                               for (std::uint32_t x = 0; x < copy.width(); ++x) copy.store(x, y, 0, convert::clampUnorm(accumulation.load(x, y)));
-                       }
+                       storeAsUnorm(accumulation, reg.get(kBackBufferName));
+                       if (reference) storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
                    }});
     }
     if (opt.accumulateLighting) {
@@ -585,9 +577,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                        drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
                        if (reference) {
                            Surface& composed = reg.get(kReferenceBufferName);
-                           presentToBackBuffer(composed, reg.get(kBackBufferName));
-                           for (std::uint32_t y = 0; y < composed.height(); ++y)
-                               for (std::uint32_t x = 0; x < composed.width(); ++x) composed.store(x, y, 0, convert::clampUnorm(composed.load(x, y)));
+                           storeAsUnorm(composed, composed);
+                           storeAsUnorm(composed, reg.get(kBackBufferName));
                        }
                    }});
     }

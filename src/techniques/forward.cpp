@@ -134,8 +134,7 @@ Frame buildForward(const TechniqueContext& ctx) {
 
     const bool reference = ctx.precision == Precision::Reference;
     Frame frame;
-    std::vector<std::string> colorBuffers{std::string(kBackBufferName)};
-    if (reference) colorBuffers.emplace_back(kReferenceBufferName);
+    const std::vector<std::string> colorBuffers = withReferenceBuffer({std::string(kBackBufferName)}, ctx.precision);
     std::vector<std::string> allBuffers = colorBuffers;
     allBuffers.emplace_back("depth");
 

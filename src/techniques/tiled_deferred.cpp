@@ -48,7 +48,7 @@ void intelPhong(const Vec3<T>& normal, const Vec3<T>& lightDir, const Vec3<T>& v
         // reflect(i, n) = i - 2 * dot(n, i) * n
         const Vec3<T> r = lightDir - (T(2) * hlsl::dot(normal, lightDir)) * normal;
         const T rDotV = hlsl::max(T(0), hlsl::dot(r, viewDir));
-        const T specular = kFast ? fastmath::pow(rDotV, specularPower) : detPow(rDotV, specularPower);
+        const T specular = lightingPow<T, kFast>(rDotV, specularPower);
         litDiffuse += lightContrib * nDotL;
         litSpecular += lightContrib * specular;
     }

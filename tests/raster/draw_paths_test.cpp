@@ -42,3 +42,36 @@ TEST_CASE("draw paths: each draw reports the path its state requires") {
     CHECK(sum.paths["ps depth:D32 1x raster:exact"] == 2);
     CHECK(sum.paths["ps depth:Off 1x raster:exact"] == 1);
 }
+
+TEST_CASE("SetupStats::touched holds every pixel a draw wrote, and is empty when nothing survived setup") {
+    Surface color({40, 30, Format::R32G32B32A32_FLOAT, 1});
+    color.clearColor(glm::vec4(0.0f));
+    std::vector<test::ColorVertex> tris;
+    for (const glm::vec2 p : {glm::vec2(5, 4), glm::vec2(22, 9)})
+        for (const glm::vec2 d : {glm::vec2(0, 0), glm::vec2(6.3f, 0.2f), glm::vec2(1.1f, 5.7f)})
+            tris.push_back({test::windowToClip(p.x + d.x, p.y + d.y, 40, 30), glm::vec4(1.0f)});
+    DrawState st = test::countingState(color);
+    RenderTargets rt;
+    rt.colors[0] = &color;
+    Device device(DeviceConfig{16, 2});
+    const DrawStats s = device.draw(st, rt, std::span<const test::ColorVertex>(tris), {}, test::PassThroughVS{}, test::ColorPS{});
+    const PixelRect r = s.setup.touched;
+    REQUIRE_FALSE(r.empty());
+    int written = 0;
+    bool inside = true;
+    for (std::uint32_t y = 0; y < 30; ++y)
+        for (std::uint32_t x = 0; x < 40; ++x)
+            if (color.load(x, y).x != 0.0f) {
+                ++written;
+                inside = inside && std::int32_t(x) >= r.minX && std::int32_t(x) < r.maxX && std::int32_t(y) >= r.minY &&
+                         std::int32_t(y) < r.maxY;
+            }
+    CHECK(written > 20);
+    CHECK(inside);
+    CHECK(r.minX >= 4);   // bounded by the triangles, not the target: x from 5, y from 4
+    CHECK(r.maxX <= 30);  // up to 22 + 6.3 (+ a pixel of reach)
+    // A triangle entirely off the target is dropped in setup: nothing touched.
+    const std::vector<test::ColorVertex> off{{test::windowToClip(-30, -30, 40, 30)}, {test::windowToClip(-20, -30, 40, 30)},
+                                             {test::windowToClip(-30, -20, 40, 30)}};
+    CHECK(device.draw(st, rt, std::span<const test::ColorVertex>(off), {}, test::PassThroughVS{}, test::ColorPS{}).setup.touched.empty());
+}

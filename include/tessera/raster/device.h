@@ -37,10 +37,6 @@ struct DrawStats {
     // require, nothing more): "ps depth:D24 1x raster:exact", "no-ps depth:General 4x ...",
     // with "blend" when a target blends. The paths a frame took, for --stats.
     std::map<std::string, std::uint64_t> paths;
-    // A rectangle holding every pixel the draw may have written (the union of its set-up
-    // triangles' pixel bounds; empty when none survived setup). Lets a caller clear or copy
-    // only what changed (deferred's per-light stencil clear).
-    PixelRect touched;
     DrawStats& operator+=(const DrawStats& o);
 };
 

@@ -49,6 +49,10 @@ struct SetupTriangle {
 struct SetupStats {
     std::uint64_t trianglesIn = 0, culledFacing = 0, culledDegenerate = 0, culledNonFinite = 0,
                   clipped = 0, trianglesOut = 0;
+    // The union of the set-up triangles' pixel bounds: every pixel the draw may write lies in it
+    // (empty when no triangle survived). Lets a caller clear or copy only what changed
+    // (deferred's per-light stencil clear).
+    PixelRect touched;
 };
 
 // The per-draw constants setup needs.

@@ -95,22 +95,32 @@ constexpr T radians(T degrees) {
 // throughout, the C library's powf/cosf instead of the deterministic detPow/detCos, normalize as
 // one reciprocal square root and a multiply. Their error against `reference` is measured by
 // tests/precision, never assumed; kFast = false selects the exact forms everywhere below.
+// (kFast is only ever set with T = float.)
 namespace fastmath {
-inline float pow(float x, float y) {
-    // HLSL pow(x, y) for the x >= 0 the lighting passes; powf(0, y > 0) = 0 as HLSL's table says.
-    return std::pow(x, y);
-}
-inline double pow(double x, double y) { return detPow(x, y); }
 template <class T>
 Vec4<T> normalize(const Vec4<T>& v) {
     const T inv = T(1) / std::sqrt(hlsl::dot(v, v));
     return v * inv;
 }
-template <class T>
-T cos(T x) {
-    return std::cos(x);
-}
 } // namespace fastmath
+
+// normalize, pow and cos as the mode asks: HLSL's pow(x, y) for the x >= 0 the lighting passes
+// (powf(0, y > 0) = 0, as HLSL's table says).
+template <class T, bool kFast>
+Vec4<T> lightingNormalize(const Vec4<T>& v) {
+    if constexpr (kFast) return fastmath::normalize(v);
+    else return hlsl::normalize(v);
+}
+template <class T, bool kFast>
+T lightingPow(T x, T y) {
+    if constexpr (kFast) return std::pow(x, y);
+    else return detPow(x, y);
+}
+template <class T, bool kFast>
+T lightingCos(T x) {
+    if constexpr (kFast) return std::cos(x);
+    else return detCos(x);
+}
 
 // The article's Light struct in view space (seed 000 §2; 112 bytes there, a plain value here).
 // positionView = View * (positionWorld, 1); directionView = normalize(View * (directionWorld, 0)).
@@ -155,10 +165,9 @@ Vec4<T> doDiffuse(const ViewLight<T>& light, const Vec4<T>& lightDirView, const 
 template <class T, bool kFast = false>
 Vec4<T> doSpecular(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView, const Vec4<T>& lightDirView,
                    const Vec4<T>& normalView) {
-    const Vec4<T> r = hlsl::reflect(hlsl::neg(lightDirView), normalView);
-    const Vec4<T> reflected = kFast ? fastmath::normalize(r) : hlsl::normalize(r);
+    const Vec4<T> reflected = lightingNormalize<T, kFast>(hlsl::reflect(hlsl::neg(lightDirView), normalView));
     const T rDotV = hlsl::max(hlsl::dot(reflected, viewDirView), T(0));
-    return light.color * (kFast ? fastmath::pow(rDotV, specularPower) : detPow(rDotV, specularPower));
+    return light.color * lightingPow<T, kFast>(rDotV, specularPower);
 }
 
 // DoAttenuation: 1 - smoothstep(0.75 Range, Range, d): 1 below 0.75 Range, 0 from Range on.
@@ -173,7 +182,7 @@ template <class T, bool kFast = false>
 T doSpotCone(const ViewLight<T>& light, const Vec4<T>& lightDirView) {
     T minCos = light.spotMinCos, maxCos = light.spotMaxCos;
     if (minCos != minCos) {  // not cached (cacheSpotCone)
-        minCos = kFast ? fastmath::cos(hlsl::radians(light.spotlightAngleDeg)) : detCos(hlsl::radians(light.spotlightAngleDeg));
+        minCos = lightingCos<T, kFast>(hlsl::radians(light.spotlightAngleDeg));
         maxCos = hlsl::lerp(minCos, T(1), T(0.5));
     }
     const T cosAngle = hlsl::dot(light.directionView, hlsl::neg(lightDirView));
@@ -216,7 +225,7 @@ LightingResult<T> doSpotLight(const ViewLight<T>& light, T specularPower, const 
 template <class T, bool kFast = false>
 LightingResult<T> doDirectionalLight(const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
                                      const Vec4<T>& normalView, bool withSpecular = true) {
-    const Vec4<T> lightDir = kFast ? fastmath::normalize(hlsl::neg(light.directionView)) : hlsl::normalize(hlsl::neg(light.directionView));
+    const Vec4<T> lightDir = lightingNormalize<T, kFast>(hlsl::neg(light.directionView));
     LightingResult<T> result;
     result.diffuse = doDiffuse(light, lightDir, normalView) * light.intensity;
     if (withSpecular) result.specular = doSpecular<T, kFast>(light, specularPower, viewDirView, lightDir, normalView) * light.intensity;

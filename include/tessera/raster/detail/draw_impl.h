@@ -94,6 +94,7 @@ void setupAll(std::uint32_t first, std::uint32_t end, const SetupContext& ctx, F
         stats.culledNonFinite += cs.culledNonFinite;
         stats.clipped += cs.clipped;
         stats.trianglesOut += cs.trianglesOut;
+        stats.touched = unite(stats.touched, cs.touched);
     }
 }
 
@@ -543,15 +544,13 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         detail::DrawContext dc{&state, dt, targets.colors, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
                                standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast};
+        bool blends = false;
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
             dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
             dc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), dc.blend[rt]);
+            blends = blends || (targets.colors[rt] && dc.blend[rt].blendEnable);
         }
         if (targets.depthStencil) dc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
-
-        bool blends = false;
-        for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt)
-            blends = blends || (targets.colors[rt] && dc.blend[rt].blendEnable);
         ++stats.paths[drawPathName(!std::is_same_v<PS, NoPixelShader>, dc.ds.path(), dt.sampleCount, blends, state.precision)];
 
         std::vector<detail::SetupChunk> chunks;
@@ -559,8 +558,6 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         for (std::uint32_t first = 0; first < triangleCount; first += std::min(detail::kBatchTriangles, triangleCount - first)) {
             const std::uint32_t end = first + std::min(detail::kBatchTriangles, triangleCount - first);
             detail::setupAll<V>(first, end, ctx, fetch, chunks, stats.setup);
-            for (const detail::SetupChunk& chunk : chunks)
-                for (const SetupTriangle& tri : chunk.tris) stats.touched = unite(stats.touched, tri.bounds);
             const detail::TileBins bins = detail::binTriangles(chunks, dt.width, dt.height, mConfig.tileSize);
             const std::size_t nTiles = bins.tileCount();
             counters.resize(nTiles);
