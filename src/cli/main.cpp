@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include <tessera/io/atomic_file.h>
+#include <tessera/raster/quad_block.h>
 #include <tessera/io/image_writer.h>
 #include <tessera/io/input_error.h>
 #include <tessera/io/json_depth.h>
@@ -251,6 +252,8 @@ void printDrawStats(const tessera::DrawStats& s) {
                 (unsigned long long)s.setup.trianglesOut, (unsigned long long)s.quads, (unsigned long long)s.psInvocations,
                 (unsigned long long)s.samplesPassed);
     for (const auto& [path, draws] : s.paths) std::printf("path %-44s %llu draws\n", path.c_str(), (unsigned long long)draws);
+    std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
+                (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
 }
 
 // The frame rendered `warmup` times untimed, then `repeat` times timed, each run into a fresh

@@ -22,6 +22,8 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     quads += o.quads;
     psInvocations += o.psInvocations;
     samplesPassed += o.samplesPassed;
+    simdBlocks += o.simdBlocks;
+    leanBlocks += o.leanBlocks;
     for (const auto& [path, draws] : o.paths) paths[path] += draws;
     setup.touched = unite(setup.touched, o.setup.touched);
     return *this;

@@ -24,6 +24,10 @@ namespace tessera {
 struct DeviceConfig {
     std::uint32_t tileSize = 64;  // px, even, 8..1024: the unit of parallel work
     std::uint32_t threads = 0;    // worker threads, 1..256; 0 = all hardware threads (TBB default)
+    // Single-sample draws rasterize 8x8 blocks through the SIMD kernel (raster/quad_block.h)
+    // where enough of a block is inside the triangle's bounds; false keeps every quad on the
+    // scalar path. Both give the same bits (the scalar path is the tests' oracle).
+    bool simdBlocks = true;
 };
 
 // Counters of one draw (and, summed, of a frame) for --stats.
@@ -33,6 +37,9 @@ struct DrawStats {
     std::uint64_t quads = 0;                // 2x2 quads with at least one covered sample
     std::uint64_t psInvocations = 0;        // pixel (or sample) shader calls, helpers excluded
     std::uint64_t samplesPassed = 0;        // samples passing depth/stencil, not discarded
+    // 8x8 blocks rasterized through the SIMD kernels (raster/quad_block.h), and those of them
+    // that also ran the lean pipeline (SIMD depth test, no per-pixel stage the state lacks).
+    std::uint64_t simdBlocks = 0, leanBlocks = 0;
     // Draws per pipeline path the rasterizer specialised for (what the draw's state and shader
     // require, nothing more): "ps depth:D24 1x raster:exact", "no-ps depth:General 4x ...",
     // with "blend" when a target blends. The paths a frame took, for --stats.

@@ -15,6 +15,7 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/raster/fixed_point.h>
 #include <tessera/raster/output_merger.h>
+#include <tessera/raster/quad_block.h>
 #include <tessera/raster/sample_pattern.h>
 
 namespace tessera {
@@ -147,15 +148,16 @@ struct QuadCentres {
     std::array<V, 4> varyings;
     Bary bary(int p) const { return Bary{{l[0][p], l[1][p], l[2][p]}}; }
 };
-// fast (DrawState::precision Fast): the barycentrics in float, float(E_i) * float(1 / area2),
-// about 2 ulp from the exact value instead of one rounding from double.
+// fast (DrawState::precision Fast): the barycentrics in float, float(double(E_i)) * float(1 / area2),
+// about 2 ulp from the exact value instead of one rounding from double (E_i goes through double
+// as the SIMD block does, which has no direct int64 -> float conversion on every target).
 template <Varyings V, bool kVaryings>
 inline void quadCentres(const SetupTriangle& t, const float* store, const std::int64_t (&ePix)[4][3], QuadCentres<V>& q,
                         bool fast = false) {
     if (fast) {
         const float invArea2 = float(t.invArea2);
         for (int i = 0; i < 3; ++i)
-            for (int p = 0; p < 4; ++p) q.l[i][p] = float(ePix[p][i]) * invArea2;
+            for (int p = 0; p < 4; ++p) q.l[i][p] = float(double(ePix[p][i])) * invArea2;
     } else {
         for (int i = 0; i < 3; ++i)
             for (int p = 0; p < 4; ++p) q.l[i][p] = float(double(ePix[p][i]) * t.invArea2);
@@ -228,7 +230,7 @@ inline void depthStencilUpdate(const DepthStencilUnit& ds, std::byte* texel, flo
 }
 
 struct TileCounters {
-    std::uint64_t quads = 0, psInvocations = 0, samplesPassed = 0;
+    std::uint64_t quads = 0, psInvocations = 0, samplesPassed = 0, simdBlocks = 0, leanBlocks = 0;
 };
 
 // Everything per-draw that the tile loop reads.
@@ -243,6 +245,7 @@ struct DrawContext {
     DepthStencilUnit ds;
     std::span<const SampleOffset> samples;
     bool fast = false;  // DrawState::precision == Fast
+    bool simdBlocks = true;  // DeviceConfig::simdBlocks
 };
 
 // Rasterizes the tile's triangles in submission order. Edge functions are stepped, not
@@ -275,6 +278,26 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                        kTargets > 0 ? dc.colors[0] : nullptr};
     constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
     auto triangleOf = [&](const TriangleRef& ref) -> const SetupTriangle& { return chunks[ref.chunk].tris[ref.index]; };
+    // The SIMD block path: single-sample targets, varyings that fit a QuadBlock, and the whole
+    // 8x8 block inside the triangle's rectangle. Partly covered blocks stay on the per-quad path,
+    // which visits only the quads in the rectangle: with a threshold of 32 or 48 px, 3 px
+    // triangles ran no faster and 20 px ones 7% slower (bench/raster_bench, 1 thread).
+    constexpr bool kBlockVaryings = kVaryingFloatCount<V> <= QuadBlock::kMaxVaryings;
+    constexpr std::int32_t kSimdBlockMinPixels = 64;  // px of the block inside r (all of it)
+    static constexpr std::int64_t kNoEdges[4][3] = {};  // unused when single-sampled
+    // The lean block pipeline: a SIMD depth test of the whole block, then the shader on the
+    // passing pixels, with nothing per pixel that the state does not need. For pixel-rate
+    // shaders that do not write depth, on the D32 / D24 / Off paths (stencil inactive) and when
+    // failing samples cannot write (checked per triangle); otherwise the block feeds shadeQuad.
+    constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthPath::General;
+    QuadBlock block;
+    // RGBA8 overwrites of one triangle's block, per target: colour c of lane p at rgba[c * 64 + p].
+    // Zeroed once, so the encoder never reads indeterminate lanes.
+    struct ColorStash {
+        alignas(64) float rgba[kTargets > 0 ? kTargets : 1][4 * QuadBlock::kPixels];
+        std::uint64_t pending[kTargets > 0 ? kTargets : 1];
+    };
+    ColorStash stash{};
     for (std::size_t k = 0; k < list.size(); ++k) {
         if (k + kAheadTri < list.size()) {
             const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
@@ -330,7 +353,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
         // at most kBlock px outside the target, inside the guard band: |E| <= 2^61 still holds.
         // Quads within a triangle cover disjoint pixels, so visiting them block by block
         // instead of row by row changes no result.
-        constexpr std::int32_t kBlock = 8;
+        constexpr std::int32_t kBlock = QuadBlock::kSide;  // px
         std::int64_t blockReach[3];
         for (int i = 0; i < 3; ++i) {
             std::int64_t maxDelta = sampleDelta[0][i];
@@ -338,6 +361,135 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
             blockReach[i] = std::max<std::int64_t>(0, (kBlock - 1) * stepX[i]) +
                             std::max<std::int64_t>(0, (kBlock - 1) * stepY[i]) + maxDelta;
         }
+        // The minimum of E_i over a block's pixel centres, relative to its first: the SIMD block
+        // path (single-sampled) treats a block whose minimum is at or above the bias as covered.
+        std::int64_t blockLow[3];
+        for (int i = 0; i < 3; ++i)
+            blockLow[i] = std::min<std::int64_t>(0, (kBlock - 1) * stepX[i]) + std::min<std::int64_t>(0, (kBlock - 1) * stepY[i]);
+
+        // Depth/stencil, shading and the output merger for one quad whose centres are in qc;
+        // ePix (E_i at the pixel centres) gives the samples' barycentrics when multisampled.
+        // lanes: the pixels' lanes in the SIMD block (nullptr on the per-quad path); their RGBA8
+        // overwrites go to the block's colour stash, encoded and stored when the block is done.
+        auto shadeQuad = [&](std::int32_t qx, std::int32_t qy, std::uint32_t quadMask, const QuadCentres<V>& qc,
+                             const std::int64_t (&ePix)[4][3], const int* lanes) {
+            [[maybe_unused]] V ddx{}, ddy{};
+            if constexpr (kHasPs) {
+                ddx = subtract(qc.varyings[1], qc.varyings[0]);
+                ddy = subtract(qc.varyings[2], qc.varyings[0]);
+            }
+
+            for (int p = 0; p < 4; ++p) {
+                const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
+                if (pixelMask == 0) continue;
+                const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
+                // Barycentrics at sample s (the centre's when single-sampled: offset 0).
+                auto sampleBary = [&](std::uint32_t s) {
+                    if (sampleCount == 1) return qc.bary(p);
+                    const std::int64_t e[3] = {ePix[p][0] + sampleDelta[s][0], ePix[p][1] + sampleDelta[s][1],
+                                               ePix[p][2] + sampleDelta[s][2]};
+                    return baryFromEdges(t, e);
+                };
+                float zSample[8];
+                if (sampleCount == 1) {
+                    zSample[0] = clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+                } else {
+                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                        if (!(pixelMask & (1u << s))) continue;
+                        zSample[s] = clampDepth(depthAt(t, sampleBary(s)), vp.minDepth, vp.maxDepth);
+                    }
+                }
+                // Shades, tests and writes the samples in `mask` with one shader result.
+                // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
+                // shader runs per sample (clamped to the viewport range like the samples).
+                auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
+                                          float xWin, float yWin, float zPs) {
+                    [[maybe_unused]] PixelOutput<kTargets> out;
+                    bool shaded = false;
+                    auto shade = [&] {
+                        if constexpr (kHasPs) {
+                            PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
+                                             pixelMask, sampleIndex};
+                            ps(in, out);
+                            ++counters.psInvocations;
+                            shaded = true;
+                        }
+                    };
+                    if constexpr (kWritesDepth) {
+                        shade();
+                        if (out.discarded) return;
+                        const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
+                        for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
+                    }
+                    DepthStencilResult result[8]{};  // zeroed: GCC -O2 cannot see that only masked samples are read
+                    std::uint32_t depthCode[8]{};
+                    std::uint32_t passMask = 0, passCount = 0;
+                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                        if (!(mask & (1u << s))) continue;
+                        const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
+                        result[s] = depthStencilTest<kDepth>(dc.ds, dsTexel, zSample[s], front, depthCode[s]);
+                        if (result[s] == DepthStencilResult::Pass) {
+                            passMask |= 1u << s;
+                            ++passCount;
+                        }
+                    }
+                    if constexpr (kHasPs && !kWritesDepth) {
+                        // Early depth/stencil: the shader is skipped only where its result
+                        // cannot matter (no sample passes and a discard could not change
+                        // what the failing samples write).
+                        if (passMask != 0 || (kMayDiscard && failWrites)) shade();
+                        if (shaded && out.discarded) return;
+                    }
+                    if constexpr (kDepth != DepthPath::Off) {
+                        for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                            if (!(mask & (1u << s))) continue;
+                            depthStencilUpdate<kDepth>(dc.ds, dc.depthStencil->texel(px, py, s), zSample[s], front,
+                                                       result[s], depthCode[s]);
+                        }
+                    }
+                    if constexpr (kHasPs) {
+                        if (shaded && passMask != 0) {
+                            for (int rt = 0; rt < kTargets; ++rt) {
+                                Surface* target = dc.colors[std::size_t(rt)];
+                                if (!target) continue;
+                                const glm::vec4& src = out.target[std::size_t(rt)];
+                                const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
+                                if (overwrite && lanes) {  // single-sampled: passMask == 1
+                                    const std::size_t lane = std::size_t(lanes[p]);
+                                    for (std::size_t c = 0; c < 4; ++c) stash.rgba[rt][c * QuadBlock::kPixels + lane] = src[int(c)];
+                                    stash.pending[rt] |= std::uint64_t(1) << lane;
+                                    continue;
+                                }
+                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                                    if (!(passMask & (1u << s))) continue;
+                                    if (overwrite && dc.fast) writeColorRgba8UnormFast(target->texel(px, py, s), src);
+                                    else if (overwrite) writeColorRgba8Unorm(target->texel(px, py, s), src);
+                                    else writeColorSample(target->format(), target->texel(px, py, s), src,
+                                                          dc.blend[std::size_t(rt)], dc.blendFactor);
+                                }
+                            }
+                        }
+                    }
+                    counters.samplesPassed += passCount;
+                };
+                if constexpr (kPerSample) {
+                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                        if (!(pixelMask & (1u << s))) continue;
+                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
+                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
+                        float w = 0;
+                        const V var = interpolate<V>(t, store, sampleBary(s), w);
+                        resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
+                    }
+                } else if constexpr (kHasPs) {
+                    const float zCentre = sampleCount == 1 ? zSample[0] : clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+                    resolveSamples(pixelMask, 0, qc.varyings[std::size_t(p)], qc.posW[p], float(px) + 0.5f,
+                                   float(py) + 0.5f, zCentre);
+                } else {
+                    resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
+                }
+            }
+        };
 
         for (std::int32_t by = qy0; by < r.maxY; by += kBlock) {
             for (std::int32_t bx = qx0; bx < r.maxX; bx += kBlock) {
@@ -349,6 +501,160 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                 }
                 if (outside) continue;
                 const std::int32_t xEnd = std::min(bx + kBlock, r.maxX), yEnd = std::min(by + kBlock, r.maxY);
+                if constexpr (kSingleSample && kBlockVaryings) {
+                    // The SIMD block (quad_block.h): the same values as the per-quad path below, bit
+                    // for bit, 64 pixels at a time. Used where enough of the block lies in r.
+                    if (dc.simdBlocks && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels) {
+                        const QuadBlock::Edges edges{{eQuadRow[0], eQuadRow[1], eQuadRow[2]},
+                                                     {stepX[0], stepX[1], stepX[2]},
+                                                     {stepY[0], stepY[1], stepY[2]}};
+                        std::uint8_t columns = 0, rows = 0;
+                        for (std::int32_t c = 0; c < kBlock; ++c) {
+                            if (bx + c >= r.minX && bx + c < r.maxX) columns = std::uint8_t(columns | (1u << c));
+                            if (by + c >= r.minY && by + c < r.maxY) rows = std::uint8_t(rows | (1u << c));
+                        }
+                        // Trivially covered when every edge is at or above its bias at the block's
+                        // lowest corner (E_i is linear; the same exact integer bound as blockReach).
+                        bool inside = true;
+                        for (int i = 0; i < 3; ++i) inside = inside && eQuadRow[i] + blockLow[i] >= t.bias[i];
+                        std::uint64_t covered = 0;
+                        if (inside) {
+                            for (std::int32_t y = 0; y < kBlock; ++y)
+                                if ((rows >> y) & 1u) covered |= std::uint64_t(columns) << (y * kBlock);
+                        } else {
+                            covered = quadBlockCoverage(t, edges, columns, rows);
+                        }
+                        if (covered == 0) continue;
+                        ++counters.simdBlocks;
+                        quadBlockCentres(t, edges, store + t.varyingOffset, kHasPs ? std::uint32_t(kVaryingFloatCount<V>) : 0u,
+                                         kHasPs, dc.fast, block);
+                        auto laneVaryings = [&](int lane) {
+                            VaryingArray<V> v;
+                            for (std::size_t j = 0; j < v.size(); ++j)
+                                v[j] = block.varyings[j * QuadBlock::kPixels + std::size_t(lane)];
+                            return std::bit_cast<V>(v);
+                        };
+                        auto pixelOf = [&](int lane) {
+                            return std::array<std::uint32_t, 2>{std::uint32_t(bx + lane % kBlock), std::uint32_t(by + lane / kBlock)};
+                        };
+                        if (kLeanBlock && !failWrites) {
+                            ++counters.leanBlocks;
+                            // The whole block's depth test at once (before any shading: early depth,
+                            // as the per-quad path), then the shader on the passing pixels.
+                            std::uint64_t pass = covered;
+                            alignas(64) float zClamped[QuadBlock::kPixels];
+                            alignas(64) std::uint32_t incoming[QuadBlock::kPixels];
+                            if constexpr (kDepth == DepthPath::D32 || kDepth == DepthPath::D24) {
+                                alignas(64) std::uint32_t stored[QuadBlock::kPixels];
+                                for (std::uint64_t m = covered; m != 0; m &= m - 1) {
+                                    const int lane = std::countr_zero(m);
+                                    const auto [px, py] = pixelOf(lane);
+                                    std::memcpy(&stored[lane], dc.depthStencil->texel(px, py), 4);
+                                }
+                                pass = quadBlockDepthTest(block.z, stored, covered, kDepth == DepthPath::D24, dc.ds.desc.depthFunc,
+                                                          vp.minDepth, vp.maxDepth, zClamped, incoming);
+                            } else {
+                                for (std::uint64_t m = covered; m != 0; m &= m - 1) {
+                                    const int lane = std::countr_zero(m);
+                                    zClamped[lane] = clampDepth(block.z[lane], vp.minDepth, vp.maxDepth);
+                                }
+                            }
+                            // Stores the depth of a passing lane (D24: the three code bytes; the
+                            // stencil byte is kept).
+                            auto writeDepth = [&](int lane) {
+                                if constexpr (kDepth == DepthPath::D32 || kDepth == DepthPath::D24) {
+                                    if (!dc.ds.desc.depthWriteEnable) return;
+                                    const auto [px, py] = pixelOf(lane);
+                                    std::memcpy(dc.depthStencil->texel(px, py), &incoming[lane], kDepth == DepthPath::D32 ? 4 : 3);
+                                }
+                            };
+                            if constexpr (!kMayDiscard)
+                                for (std::uint64_t m = pass; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
+                            for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+                                for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                                    const int lane0 = (qy - by) * kBlock + (qx - bx);
+                                    const std::uint64_t quadBits = (std::uint64_t(3) << lane0) | (std::uint64_t(3) << (lane0 + kBlock));
+                                    if (!(covered & quadBits)) continue;
+                                    ++counters.quads;
+                                    if constexpr (!kHasPs) {
+                                        counters.samplesPassed += std::uint64_t(std::popcount(pass & quadBits));
+                                    } else {
+                                        if (!(pass & quadBits)) continue;
+                                        const V var0 = laneVaryings(lane0);
+                                        const V ddx = subtract(laneVaryings(lane0 + 1), var0);
+                                        const V ddy = subtract(laneVaryings(lane0 + kBlock), var0);
+                                        for (int p = 0; p < 4; ++p) {
+                                            const int lane = lane0 + (p & 1) + (p >> 1) * kBlock;
+                                            if (!((pass >> lane) & 1u)) continue;
+                                            const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
+                                            PixelOutput<kTargets> out;
+                                            const PixelInput<V> in{p == 0 ? var0 : laneVaryings(lane), ddx, ddy,
+                                                                   glm::vec4(float(px) + 0.5f, float(py) + 0.5f, zClamped[lane],
+                                                                             block.posW[lane]),
+                                                                   front, 1u, 0u};
+                                            ps(in, out);
+                                            ++counters.psInvocations;
+                                            if (out.discarded) continue;
+                                            if constexpr (kMayDiscard) writeDepth(lane);
+                                            ++counters.samplesPassed;
+                                            for (int rt = 0; rt < kTargets; ++rt) {
+                                                Surface* target = dc.colors[std::size_t(rt)];
+                                                if (!target) continue;
+                                                const glm::vec4& src = out.target[std::size_t(rt)];
+                                                if (dc.rgba8Overwrite[std::size_t(rt)]) {
+                                                    for (std::size_t c = 0; c < 4; ++c)
+                                                        stash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
+                                                    stash.pending[rt] |= std::uint64_t(1) << lane;
+                                                } else {
+                                                    writeColorSample(target->format(), target->texel(px, py), src,
+                                                                     dc.blend[std::size_t(rt)], dc.blendFactor);
+                                                }
+                                            }
+                                        }
+                                    }
+                                }
+                            }
+                        } else {
+                            for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+                                for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                                    const int lane[4] = {(qy - by) * kBlock + (qx - bx), (qy - by) * kBlock + (qx - bx) + 1,
+                                                         (qy - by + 1) * kBlock + (qx - bx), (qy - by + 1) * kBlock + (qx - bx) + 1};
+                                    std::uint32_t quadMask = 0;
+                                    for (int p = 0; p < 4; ++p) quadMask |= std::uint32_t((covered >> lane[p]) & 1u) << p;
+                                    if (quadMask == 0) continue;
+                                    ++counters.quads;
+                                    QuadCentres<V> qc;
+                                    for (int p = 0; p < 4; ++p) {
+                                        for (int i = 0; i < 3; ++i) qc.l[i][p] = block.l[i][lane[p]];
+                                        qc.z[p] = block.z[lane[p]];
+                                        if constexpr (kHasPs) {
+                                            qc.posW[p] = block.posW[lane[p]];
+                                            qc.varyings[std::size_t(p)] = laneVaryings(lane[p]);
+                                        }
+                                    }
+                                    shadeQuad(qx, qy, quadMask, qc, kNoEdges, lane);
+                                }
+                            }
+                        }
+                        // The triangle's stashed RGBA8 overwrites in this block, encoded 64 at a time.
+                        // Deferring them is invisible: a triangle's pixels are disjoint and nothing
+                        // reads a colour target before the next triangle starts.
+                        for (int rt = 0; rt < kTargets; ++rt) {
+                            std::uint64_t pending = stash.pending[rt];
+                            if (pending == 0) continue;
+                            alignas(64) std::uint32_t codes[QuadBlock::kPixels];
+                            quadBlockEncodeRgba8(stash.rgba[rt], dc.fast, codes);
+                            Surface* target = dc.colors[std::size_t(rt)];
+                            for (; pending != 0; pending &= pending - 1) {
+                                const int lane = std::countr_zero(pending);
+                                std::memcpy(target->texel(std::uint32_t(bx + lane % kBlock), std::uint32_t(by + lane / kBlock)),
+                                            &codes[lane], 4);
+                            }
+                            stash.pending[rt] = 0;
+                        }
+                        continue;
+                    }
+                }
                 for (std::int32_t qy = by; qy < yEnd; qy += 2) {
                     std::int64_t eQuad[3] = {eQuadRow[0], eQuadRow[1], eQuadRow[2]};
                     for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
@@ -382,116 +688,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                         // included, for derivatives).
                         QuadCentres<V> qc;
                         quadCentres<V, kHasPs>(t, store, ePix, qc, dc.fast);
-                        [[maybe_unused]] V ddx{}, ddy{};
-                        if constexpr (kHasPs) {
-                            ddx = subtract(qc.varyings[1], qc.varyings[0]);
-                            ddy = subtract(qc.varyings[2], qc.varyings[0]);
-                        }
-
-                        for (int p = 0; p < 4; ++p) {
-                            const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
-                            if (pixelMask == 0) continue;
-                            const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
-                            // Barycentrics at sample s (the centre's when single-sampled: offset 0).
-                            auto sampleBary = [&](std::uint32_t s) {
-                                if (sampleCount == 1) return qc.bary(p);
-                                const std::int64_t e[3] = {ePix[p][0] + sampleDelta[s][0], ePix[p][1] + sampleDelta[s][1],
-                                                           ePix[p][2] + sampleDelta[s][2]};
-                                return baryFromEdges(t, e);
-                            };
-                            float zSample[8];
-                            if (sampleCount == 1) {
-                                zSample[0] = clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
-                            } else {
-                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                    if (!(pixelMask & (1u << s))) continue;
-                                    zSample[s] = clampDepth(depthAt(t, sampleBary(s)), vp.minDepth, vp.maxDepth);
-                                }
-                            }
-                            // Shades, tests and writes the samples in `mask` with one shader result.
-                            // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
-                            // shader runs per sample (clamped to the viewport range like the samples).
-                            auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
-                                                      float xWin, float yWin, float zPs) {
-                                [[maybe_unused]] PixelOutput<kTargets> out;
-                                bool shaded = false;
-                                auto shade = [&] {
-                                    if constexpr (kHasPs) {
-                                        PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
-                                                         pixelMask, sampleIndex};
-                                        ps(in, out);
-                                        ++counters.psInvocations;
-                                        shaded = true;
-                                    }
-                                };
-                                if constexpr (kWritesDepth) {
-                                    shade();
-                                    if (out.discarded) return;
-                                    const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
-                                    for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
-                                }
-                                DepthStencilResult result[8]{};  // zeroed: GCC -O2 cannot see that only masked samples are read
-                                std::uint32_t depthCode[8]{};
-                                std::uint32_t passMask = 0, passCount = 0;
-                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                    if (!(mask & (1u << s))) continue;
-                                    const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
-                                    result[s] = depthStencilTest<kDepth>(dc.ds, dsTexel, zSample[s], front, depthCode[s]);
-                                    if (result[s] == DepthStencilResult::Pass) {
-                                        passMask |= 1u << s;
-                                        ++passCount;
-                                    }
-                                }
-                                if constexpr (kHasPs && !kWritesDepth) {
-                                    // Early depth/stencil: the shader is skipped only where its result
-                                    // cannot matter (no sample passes and a discard could not change
-                                    // what the failing samples write).
-                                    if (passMask != 0 || (kMayDiscard && failWrites)) shade();
-                                    if (shaded && out.discarded) return;
-                                }
-                                if constexpr (kDepth != DepthPath::Off) {
-                                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                        if (!(mask & (1u << s))) continue;
-                                        depthStencilUpdate<kDepth>(dc.ds, dc.depthStencil->texel(px, py, s), zSample[s], front,
-                                                                   result[s], depthCode[s]);
-                                    }
-                                }
-                                if constexpr (kHasPs) {
-                                    if (shaded && passMask != 0) {
-                                        for (int rt = 0; rt < kTargets; ++rt) {
-                                            Surface* target = dc.colors[std::size_t(rt)];
-                                            if (!target) continue;
-                                            const glm::vec4& src = out.target[std::size_t(rt)];
-                                            const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
-                                            for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                                if (!(passMask & (1u << s))) continue;
-                                                if (overwrite && dc.fast) writeColorRgba8UnormFast(target->texel(px, py, s), src);
-                                                else if (overwrite) writeColorRgba8Unorm(target->texel(px, py, s), src);
-                                                else writeColorSample(target->format(), target->texel(px, py, s), src,
-                                                                      dc.blend[std::size_t(rt)], dc.blendFactor);
-                                            }
-                                        }
-                                    }
-                                }
-                                counters.samplesPassed += passCount;
-                            };
-                            if constexpr (kPerSample) {
-                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                    if (!(pixelMask & (1u << s))) continue;
-                                    const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
-                                    const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
-                                    float w = 0;
-                                    const V var = interpolate<V>(t, store, sampleBary(s), w);
-                                    resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
-                                }
-                            } else if constexpr (kHasPs) {
-                                const float zCentre = sampleCount == 1 ? zSample[0] : clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
-                                resolveSamples(pixelMask, 0, qc.varyings[std::size_t(p)], qc.posW[p], float(px) + 0.5f,
-                                               float(py) + 0.5f, zCentre);
-                            } else {
-                                resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
-                            }
-                        }
+                        shadeQuad(qx, qy, quadMask, qc, ePix, nullptr);
                     }
                     for (int i = 0; i < 3; ++i) eQuadRow[i] += 2 * stepY[i];
                 }
@@ -543,7 +740,8 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
 
         detail::DrawContext dc{&state, dt, targets.colors, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
-                               standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast};
+                               standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
+                               mConfig.simdBlocks};
         bool blends = false;
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
             dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
@@ -592,6 +790,8 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
             stats.quads += c.quads;
             stats.psInvocations += c.psInvocations;
             stats.samplesPassed += c.samplesPassed;
+            stats.simdBlocks += c.simdBlocks;
+            stats.leanBlocks += c.leanBlocks;
         }
     });
     if (query && query->active()) query->add(stats.samplesPassed);

@@ -1,0 +1,239 @@
+// quadBlockCoverage / quadBlockCentres (raster/quad_block.h): the scalar per-quad operations of
+// draw_impl.h run over the 64 pixels of a block, compiled once per SIMD target by Highway's
+// foreach_target and chosen at run time. Only IEEE-exact lane operations are used (int64 add and
+// compare, int64 -> double conversion, multiply, add, divide, double -> float demotion), never
+// MulAdd or an approximate reciprocal, so every lane rounds as the scalar code does.
+#include <tessera/raster/quad_block.h>
+
+#include <bit>
+#include <cstring>
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "raster/quad_block.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+#include <hwy/targets.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace tessera::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+namespace {
+constexpr int kSide = QuadBlock::kSide;
+
+// xOffset[i][x] = x * stepX[i]: E_i's change from the block's first column to column x.
+struct ColumnOffsets {
+    HWY_ALIGN std::int64_t x[3][kSide];
+    explicit ColumnOffsets(const QuadBlock::Edges& e) {
+        for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < kSide; ++c) x[i][c] = e.stepX[i] * c;
+    }
+};
+} // namespace
+
+std::uint64_t BlockCoverage(const SetupTriangle& t, const QuadBlock::Edges& e, std::uint8_t columns, std::uint8_t rows) {
+    const hn::CappedTag<std::int64_t, kSide> d;
+    const std::size_t n = hn::Lanes(d);
+    const ColumnOffsets offsets(e);
+    std::uint64_t covered = 0;
+    for (int row = 0; row < kSide; ++row) {
+        if (!((rows >> row) & 1u)) continue;
+        for (std::size_t c = 0; c < std::size_t(kSide); c += n) {
+            auto in = hn::FirstN(d, n);  // all lanes
+            for (int i = 0; i < 3; ++i) {
+                const auto edge = hn::Add(hn::Set(d, e.origin[i] + e.stepY[i] * row), hn::Load(d, offsets.x[i] + c));
+                // E >= bias as E > bias - 1 (integers; Highway 1.0 has no int64 Ge on x86).
+                in = hn::And(in, hn::Gt(edge, hn::Set(d, std::int64_t(t.bias[i]) - 1)));
+            }
+            std::uint8_t bits[8] = {};
+            hn::StoreMaskBits(d, in, bits);
+            covered |= std::uint64_t(bits[0] & ((1u << n) - 1u)) << (row * kSide + int(c));
+        }
+    }
+    std::uint64_t columnMask = 0;
+    for (int row = 0; row < kSide; ++row) columnMask |= std::uint64_t(columns) << (row * kSide);
+    return covered & columnMask;
+}
+
+void BlockCentres(const SetupTriangle& t, const QuadBlock::Edges& e, const float* HWY_RESTRICT vertexVaryings,
+                  std::uint32_t varyingCount, bool wantPosW, bool fastBarycentrics, QuadBlock& out) {
+    // Barycentrics, one row of the block at a time: l_i = float(double(E_i) * invArea2), as
+    // detail::baryFromEdges; fast: float(double(E_i)) * float(invArea2).
+    const hn::CappedTag<std::int64_t, kSide> di;
+    const hn::Rebind<double, decltype(di)> dd;
+    const hn::Rebind<float, decltype(di)> dh;
+    const std::size_t n64 = hn::Lanes(di);
+    const ColumnOffsets offsets(e);
+    const auto invArea2 = hn::Set(dd, t.invArea2);
+    const auto invArea2Float = hn::Set(dh, float(t.invArea2));
+    for (int row = 0; row < kSide; ++row) {
+        for (std::size_t c = 0; c < std::size_t(kSide); c += n64) {
+            for (int i = 0; i < 3; ++i) {
+                const auto edge = hn::Add(hn::Set(di, e.origin[i] + e.stepY[i] * row), hn::Load(di, offsets.x[i] + c));
+                const auto edgeDouble = hn::ConvertTo(dd, edge);
+                const auto l = fastBarycentrics ? hn::Mul(hn::DemoteTo(dh, edgeDouble), invArea2Float)
+                                                : hn::DemoteTo(dh, hn::Mul(edgeDouble, invArea2));
+                hn::StoreU(l, dh, out.l[i] + row * kSide + c);
+            }
+        }
+    }
+
+    // Depth, clip w and varyings over all 64 lanes, in the operation order of quadCentres.
+    const hn::CappedTag<float, QuadBlock::kPixels> df;
+    const std::size_t nf = hn::Lanes(df);
+    const auto z0 = hn::Set(df, t.zWindow[0]);
+    const auto dz1 = hn::Set(df, t.zWindow[1] - t.zWindow[0]), dz2 = hn::Set(df, t.zWindow[2] - t.zWindow[0]);
+    for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += nf) {
+        const auto l1 = hn::Load(df, out.l[1] + p), l2 = hn::Load(df, out.l[2] + p);
+        hn::Store(hn::Add(hn::Add(z0, hn::Mul(l1, dz1)), hn::Mul(l2, dz2)), df, out.z + p);
+    }
+    if (varyingCount == 0 && !wantPosW) return;
+    const auto invW0 = hn::Set(df, t.invW[0]), invW1 = hn::Set(df, t.invW[1]), invW2 = hn::Set(df, t.invW[2]);
+    const auto one = hn::Set(df, 1.0f);
+    for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += nf) {
+        const auto l0 = hn::Load(df, out.l[0] + p), l1 = hn::Load(df, out.l[1] + p), l2 = hn::Load(df, out.l[2] + p);
+        const auto sum = hn::Add(hn::Add(hn::Mul(l0, invW0), hn::Mul(l1, invW1)), hn::Mul(l2, invW2));
+        const auto invDenom = hn::Div(one, sum);
+        hn::Store(invDenom, df, out.posW + p);
+        for (std::uint32_t k = 0; k < varyingCount; ++k) {
+            const auto v0 = hn::Set(df, vertexVaryings[k]);
+            const auto v1 = hn::Set(df, vertexVaryings[varyingCount + k]);
+            const auto v2 = hn::Set(df, vertexVaryings[2 * varyingCount + k]);
+            const auto sumV = hn::Add(hn::Add(hn::Mul(l0, v0), hn::Mul(l1, v1)), hn::Mul(l2, v2));
+            hn::Store(hn::Mul(sumV, invDenom), df, out.varyings + std::size_t(k) * QuadBlock::kPixels + p);
+        }
+    }
+}
+
+void BlockEncodeRgba8(const float* HWY_RESTRICT rgba, bool fast, std::uint32_t* HWY_RESTRICT codes) {
+    const hn::CappedTag<double, kSide> dd;
+    const hn::Rebind<float, decltype(dd)> dh;
+    const hn::Rebind<std::int32_t, decltype(dd)> di;
+    const hn::Rebind<std::uint32_t, decltype(dd)> du;
+    const std::size_t n = hn::Lanes(dd);
+    const auto zero = hn::Zero(dh), one = hn::Set(dh, 1.0f);
+    for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += n) {
+        auto packed = hn::Zero(du);
+        for (int c = 0; c < 4; ++c) {
+            const auto src = hn::LoadU(dh, rgba + c * QuadBlock::kPixels + p);
+            // x > 0 ? (x < 1 ? x : 1) : 0, so NaN -> 0 as in the scalar clamp.
+            const auto x = hn::IfThenElse(hn::Gt(src, zero), hn::IfThenElse(hn::Lt(src, one), src, one), zero);
+            hn::Vec<decltype(di)> code;
+            if (fast) {
+                code = hn::ConvertTo(di, hn::Add(hn::Mul(x, hn::Set(dh, 255.0f)), hn::Set(dh, 0.5f)));
+            } else {
+                const auto scaled = hn::Mul(hn::PromoteTo(dd, x), hn::Set(dd, 255.0));  // exact: 24 + 8 bits
+                const auto truncated = hn::DemoteTo(di, scaled);                          // 0..255
+                const auto whole = hn::PromoteTo(dd, truncated);
+                const auto roundUp = hn::Ge(hn::Sub(scaled, whole), hn::Set(dd, 0.5));
+                code = hn::DemoteTo(di, hn::Add(whole, hn::IfThenElseZero(roundUp, hn::Set(dd, 1.0))));
+            }
+            packed = hn::Or(packed, hn::ShiftLeftSame(hn::BitCast(du, code), 8 * c));
+        }
+        hn::StoreU(packed, du, codes + p);
+    }
+}
+
+std::uint64_t BlockDepthTest(const float* HWY_RESTRICT z, const std::uint32_t* HWY_RESTRICT stored, std::uint64_t lanes,
+                             bool d24, ComparisonFunc func, float minDepth, float maxDepth, float* HWY_RESTRICT zClamped,
+                             std::uint32_t* HWY_RESTRICT incoming) {
+    const hn::CappedTag<double, kSide> dd;
+    const hn::Rebind<float, decltype(dd)> df;
+    const hn::Rebind<std::int32_t, decltype(dd)> di;
+    const hn::Rebind<std::uint32_t, decltype(dd)> du;
+    const std::size_t n = hn::Lanes(dd);
+    const auto lo = hn::Set(df, minDepth), hi = hn::Set(df, maxDepth);
+    std::uint64_t pass = 0;
+    for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += n) {
+        const auto raw = hn::LoadU(df, z + p);
+        // clampDepth: !(z >= min) -> min, else z > max -> max.
+        const auto zc = hn::IfThenElse(hn::Ge(raw, lo), hn::IfThenElse(hn::Gt(raw, hi), hi, raw), lo);
+        hn::StoreU(zc, df, zClamped + p);
+        hn::Mask<decltype(di)> ok;
+        if (d24) {
+            // depthToD24: z <= 0 -> 0, z >= 1 -> 2^24 - 1, else p = z * (2^24 - 1) in double,
+            // truncated, plus 1 where the fraction is >= 0.5. z is clamped, so never NaN.
+            const auto scaled = hn::Mul(hn::PromoteTo(dd, zc), hn::Set(dd, 16777215.0));
+            const auto truncated = hn::DemoteTo(di, scaled);
+            const auto whole = hn::PromoteTo(dd, truncated);
+            const auto roundUp = hn::Ge(hn::Sub(scaled, whole), hn::Set(dd, 0.5));
+            auto code = hn::DemoteTo(di, hn::Add(whole, hn::IfThenElseZero(roundUp, hn::Set(dd, 1.0))));
+            code = hn::IfThenElse(hn::RebindMask(di, hn::Gt(zc, hn::Zero(df))), code, hn::Zero(di));
+            code = hn::IfThenElse(hn::RebindMask(di, hn::Ge(zc, hn::Set(df, 1.0f))), hn::Set(di, 0xFFFFFF), code);
+            hn::StoreU(hn::BitCast(du, code), du, incoming + p);
+            // Codes are below 2^24, so signed compares order them as unsigned ones.
+            const auto dst = hn::BitCast(di, hn::And(hn::LoadU(du, stored + p), hn::Set(du, 0xFFFFFFu)));
+            switch (func) {
+            case ComparisonFunc::Never: ok = hn::FirstN(di, 0); break;
+            case ComparisonFunc::Less: ok = hn::Lt(code, dst); break;
+            case ComparisonFunc::Equal: ok = hn::Eq(code, dst); break;
+            case ComparisonFunc::LessEqual: ok = hn::Not(hn::Gt(code, dst)); break;
+            case ComparisonFunc::Greater: ok = hn::Gt(code, dst); break;
+            case ComparisonFunc::NotEqual: ok = hn::Not(hn::Eq(code, dst)); break;
+            case ComparisonFunc::GreaterEqual: ok = hn::Not(hn::Lt(code, dst)); break;
+            default: ok = hn::FirstN(di, n); break;  // Always
+            }
+        } else {
+            hn::StoreU(hn::BitCast(du, zc), du, incoming + p);
+            const auto dst = hn::BitCast(df, hn::LoadU(du, stored + p));
+            hn::Mask<decltype(df)> okf;
+            // IEEE: NaN compares false except under NotEqual (spelled Not(Eq): Highway's != is
+            // ordered on some targets) and Always, as compare() in state/comparison.h.
+            switch (func) {
+            case ComparisonFunc::Never: okf = hn::FirstN(df, 0); break;
+            case ComparisonFunc::Less: okf = hn::Lt(zc, dst); break;
+            case ComparisonFunc::Equal: okf = hn::Eq(zc, dst); break;
+            case ComparisonFunc::LessEqual: okf = hn::Le(zc, dst); break;
+            case ComparisonFunc::Greater: okf = hn::Gt(zc, dst); break;
+            case ComparisonFunc::NotEqual: okf = hn::Not(hn::Eq(zc, dst)); break;
+            case ComparisonFunc::GreaterEqual: okf = hn::Ge(zc, dst); break;
+            default: okf = hn::FirstN(df, n); break;  // Always
+            }
+            ok = hn::RebindMask(di, okf);
+        }
+        std::uint8_t bits[8] = {};
+        hn::StoreMaskBits(di, ok, bits);
+        pass |= std::uint64_t(bits[0] & ((1u << n) - 1u)) << p;
+    }
+    return pass & lanes;
+}
+
+const char* BlockTarget() { return hwy::TargetName(HWY_TARGET); }
+
+} // namespace tessera::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace tessera {
+
+static_assert(std::endian::native == std::endian::little, "quadBlockEncodeRgba8 packs R into the low byte");
+HWY_EXPORT(BlockCoverage);
+HWY_EXPORT(BlockCentres);
+HWY_EXPORT(BlockTarget);
+HWY_EXPORT(BlockEncodeRgba8);
+HWY_EXPORT(BlockDepthTest);
+
+std::uint64_t quadBlockCoverage(const SetupTriangle& t, const QuadBlock::Edges& e, std::uint8_t columns,
+                                std::uint8_t rows) {
+    return HWY_DYNAMIC_DISPATCH(BlockCoverage)(t, e, columns, rows);
+}
+
+void quadBlockCentres(const SetupTriangle& t, const QuadBlock::Edges& e, const float* vertexVaryings,
+                      std::uint32_t varyingCount, bool wantPosW, bool fastBarycentrics, QuadBlock& out) {
+    HWY_DYNAMIC_DISPATCH(BlockCentres)(t, e, vertexVaryings, varyingCount, wantPosW, fastBarycentrics, out);
+}
+
+void quadBlockEncodeRgba8(const float* rgba, bool fast, std::uint32_t* codes) {
+    HWY_DYNAMIC_DISPATCH(BlockEncodeRgba8)(rgba, fast, codes);
+}
+
+std::uint64_t quadBlockDepthTest(const float* z, const std::uint32_t* stored, std::uint64_t lanes, bool d24,
+                                 ComparisonFunc func, float minDepth, float maxDepth, float* zClamped,
+                                 std::uint32_t* incoming) {
+    return HWY_DYNAMIC_DISPATCH(BlockDepthTest)(z, stored, lanes, d24, func, minDepth, maxDepth, zClamped, incoming);
+}
+
+const char* quadBlockTarget() { return HWY_DYNAMIC_DISPATCH(BlockTarget)(); }
+
+} // namespace tessera
+#endif  // HWY_ONCE

@@ -1,0 +1,352 @@
+// The SIMD block pipeline (raster/quad_block.h) against the scalar path it replaces: each kernel
+// on every SIMD target compiled into this build and supported here (AVX-512, AVX2, SSE4, ...,
+// EMU128) against the scalar operations lane by lane, bit for bit; then whole draws with
+// DeviceConfig::simdBlocks on and off over random states, which must give identical buffers.
+#include <doctest/doctest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <hwy/targets.h>
+
+#include <tessera/buffers/conversion.h>
+#include <tessera/raster/quad_block.h>
+
+#include "support/surface_compare.h"
+#include "support/test_draw.h"
+
+using namespace tessera;
+using namespace tessera::test;
+
+namespace {
+
+struct SevenVaryings {
+    float v[7];
+};
+
+bool sameBits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+
+// Runs `body` once per SIMD target that is both compiled and supported by this CPU, with the
+// kernels' dispatch pinned to it; checks that the dispatch really switched.
+template <class F>
+void forEachTarget(F&& body) {
+    const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+    REQUIRE(!targets.empty());
+    for (const std::int64_t target : targets) {
+        hwy::SetSupportedTargetsForTest(target);
+        hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+        const std::string name = hwy::TargetName(target);
+        INFO("target " << name);
+        CHECK(std::string(quadBlockTarget()) == name);
+        body();
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+}
+
+// Random triangles through the real setup, in a 512x512 target; clip w varies so that the
+// varyings are perspective-divided.
+struct RandomTriangles {
+    std::vector<SetupTriangle> tris;
+    std::vector<float> varyings;  // 7 floats per vertex
+    explicit RandomTriangles(std::uint32_t seed, int count) {
+        DrawState st;
+        st.rasterizer.cullMode = CullMode::None;
+        st.viewport = Viewport{0, 0, 512, 512, 0, 1};
+        const SetupContext ctx{&st, PixelRect{0, 0, 512, 512}, 7};
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<float> pos(-1.5f, 1.5f), z(-0.2f, 1.2f), w(0.3f, 4.0f), val(-3.0f, 3.0f);
+        SetupStats stats;
+        for (int k = 0; k < count; ++k) {
+            glm::vec4 posClip[3];
+            float vary[3][7];
+            const float* varPtr[3];
+            for (int v = 0; v < 3; ++v) {
+                const float cw = w(rng);
+                posClip[v] = glm::vec4(pos(rng) * cw, pos(rng) * cw, z(rng) * cw, cw);
+                for (float& f : vary[v]) f = val(rng);
+                varPtr[v] = vary[v];
+            }
+            setupTriangle(ctx, posClip, varPtr, tris, varyings, stats);
+        }
+    }
+};
+
+// E_i at the centre of pixel (x, y), as rasterizeTile evaluates it.
+std::int64_t edgeAt(const SetupTriangle& t, int i, std::int32_t x, std::int32_t y) {
+    const std::int64_t X = std::int64_t(x) * fixed::kOne + fixed::kHalf, Y = std::int64_t(y) * fixed::kOne + fixed::kHalf;
+    return std::int64_t(t.a[i]) * (X - t.edgeX[i]) + std::int64_t(t.b[i]) * (Y - t.edgeY[i]);
+}
+
+void checkCoverageAndCentres() {
+    const RandomTriangles rt(77, 400);
+    REQUIRE(rt.tris.size() > 300);
+    std::mt19937 rng(5);
+    int blocks = 0, coveredLanes = 0, mismatches = 0;
+    for (const SetupTriangle& t : rt.tris) {
+        // Two blocks per triangle: one at the bounds' corner, one random inside the bounds.
+        for (int pick = 0; pick < 2; ++pick) {
+            std::int32_t bx = t.bounds.minX & ~1, by = t.bounds.minY & ~1;
+            if (pick == 1) {
+                bx = (t.bounds.minX + std::int32_t(rng() % std::uint32_t(std::max(1, t.bounds.maxX - t.bounds.minX)))) & ~1;
+                by = (t.bounds.minY + std::int32_t(rng() % std::uint32_t(std::max(1, t.bounds.maxY - t.bounds.minY)))) & ~1;
+            }
+            QuadBlock::Edges e;
+            for (int i = 0; i < 3; ++i) {
+                e.origin[i] = edgeAt(t, i, bx, by);
+                e.stepX[i] = std::int64_t(t.a[i]) * fixed::kOne;
+                e.stepY[i] = std::int64_t(t.b[i]) * fixed::kOne;
+            }
+            const auto columns = std::uint8_t(pick == 0 ? 0xFF : rng() & 0xFF), rows = std::uint8_t(pick == 0 ? 0xFF : rng() & 0xFF);
+            const std::uint64_t covered = quadBlockCoverage(t, e, columns, rows);
+            const bool fast = (blocks & 2) != 0;
+            QuadBlock block;
+            quadBlockCentres(t, e, rt.varyings.data() + t.varyingOffset, 7, true, fast, block);
+            ++blocks;
+            for (std::int32_t qy = 0; qy < 8; qy += 2)
+                for (std::int32_t qx = 0; qx < 8; qx += 2) {
+                    std::int64_t ePix[4][3];
+                    for (int p = 0; p < 4; ++p)
+                        for (int i = 0; i < 3; ++i) ePix[p][i] = edgeAt(t, i, bx + qx + (p & 1), by + qy + (p >> 1));
+                    detail::QuadCentres<SevenVaryings> qc;
+                    detail::quadCentres<SevenVaryings, true>(t, rt.varyings.data(), ePix, qc, fast);
+                    for (int p = 0; p < 4; ++p) {
+                        const int x = qx + (p & 1), y = qy + (p >> 1), lane = y * 8 + x;
+                        bool in = ((columns >> x) & 1u) && ((rows >> y) & 1u);
+                        for (int i = 0; i < 3; ++i) in = in && ePix[p][i] >= t.bias[i];
+                        coveredLanes += in;
+                        bool same = ((covered >> lane) & 1u) == (in ? 1u : 0u);
+                        for (int i = 0; i < 3; ++i) same = same && sameBits(block.l[i][lane], qc.l[i][p]);
+                        same = same && sameBits(block.z[lane], qc.z[p]) && sameBits(block.posW[lane], qc.posW[p]);
+                        for (int k = 0; k < 7; ++k) same = same && sameBits(block.varyings[k * 64 + lane], qc.varyings[std::size_t(p)].v[k]);
+                        mismatches += !same;
+                    }
+                }
+        }
+    }
+    CHECK(mismatches == 0);
+    CHECK(coveredLanes > 2000);  // the blocks really hold covered pixels (5313 with these seeds)
+    CHECK(blocks > 600);
+}
+
+void checkEncode() {
+    // Specials, values within float rounding of the half-codes (k + 0.5) / 255, and random ones.
+    std::vector<float> values = {0.0f, -0.0f, 1.0f, -1.0f, 2.0f, 0.5f, std::numeric_limits<float>::quiet_NaN(),
+                                 std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                                 std::numeric_limits<float>::denorm_min(), std::nextafter(1.0f, 0.0f)};
+    for (int k = 0; k < 255; ++k) {
+        const float half = (float(k) + 0.5f) / 255.0f;
+        for (float x = std::nextafter(std::nextafter(half, 0.0f), 0.0f); x <= std::nextafter(std::nextafter(half, 1.0f), 1.0f);
+             x = std::nextafter(x, 1.0f))
+            values.push_back(x);
+    }
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    while (values.size() % 256 != 0 || values.size() < 4096) values.push_back(u(rng));
+    int mismatches = 0;
+    for (const bool fast : {false, true}) {
+        for (std::size_t base = 0; base < values.size(); base += 256) {
+            alignas(64) float rgba[4 * 64];
+            for (int lane = 0; lane < 64; ++lane)
+                for (int c = 0; c < 4; ++c) rgba[c * 64 + lane] = values[base + std::size_t(lane) * 4 + std::size_t(c)];
+            alignas(64) std::uint32_t codes[64];
+            quadBlockEncodeRgba8(rgba, fast, codes);
+            for (int lane = 0; lane < 64; ++lane) {
+                const glm::vec4 src(rgba[lane], rgba[64 + lane], rgba[128 + lane], rgba[192 + lane]);
+                std::byte expect[4];
+                if (fast) writeColorRgba8UnormFast(expect, src);
+                else writeColorRgba8Unorm(expect, src);
+                mismatches += std::memcmp(expect, &codes[lane], 4) != 0;
+            }
+        }
+    }
+    CHECK(mismatches == 0);
+}
+
+void checkDepthTest() {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    int mismatches = 0, passes = 0;
+    for (int round = 0; round < 64; ++round) {
+        alignas(64) float z[64];
+        alignas(64) std::uint32_t storedD32[64], storedD24[64];
+        for (int lane = 0; lane < 64; ++lane) {
+            // Every few lanes an exact tie with the stored value, a D24 half-step, NaN or an
+            // infinity; the rest random.
+            z[lane] = lane % 9 == 0 ? nan : lane % 11 == 0 ? std::numeric_limits<float>::infinity() : u(rng);
+            if (lane % 7 == 0) z[lane] = (float(rng() % 16777215u) + 0.5f) / 16777215.0f;
+            const float stored = lane % 5 == 0 ? z[lane] : (lane % 13 == 0 ? nan : u(rng));
+            storedD32[lane] = std::bit_cast<std::uint32_t>(stored);
+            storedD24[lane] = (std::uint32_t(rng()) & 0xFF000000u) |
+                              (lane % 5 == 0 ? convert::depthToD24(std::clamp(z[lane], 0.0f, 1.0f)) : std::uint32_t(rng() & 0xFFFFFFu));
+        }
+        const std::uint64_t lanes = (std::uint64_t(rng()) << 32) | rng();
+        const float minDepth = round % 4 == 0 ? 0.25f : 0.0f, maxDepth = round % 4 == 1 ? 0.75f : 1.0f;
+        for (int f = 1; f <= 8; ++f)
+            for (const bool d24 : {false, true}) {
+                const auto func = ComparisonFunc(f);
+                alignas(64) float zClamped[64];
+                alignas(64) std::uint32_t incoming[64];
+                const std::uint64_t pass = quadBlockDepthTest(z, d24 ? storedD24 : storedD32, lanes, d24, func, minDepth, maxDepth,
+                                                              zClamped, incoming);
+                for (int lane = 0; lane < 64; ++lane) {
+                    if (!((lanes >> lane) & 1u)) {
+                        mismatches += (pass >> lane) & 1u;  // never outside `lanes`
+                        continue;
+                    }
+                    const float zc = detail::clampDepth(z[lane], minDepth, maxDepth);
+                    bool expect;
+                    std::uint32_t value;
+                    if (d24) {
+                        value = convert::depthToD24(zc);
+                        expect = compare(func, value, storedD24[lane] & 0xFFFFFFu);
+                    } else {
+                        value = std::bit_cast<std::uint32_t>(zc);
+                        expect = compare(func, zc, std::bit_cast<float>(storedD32[lane]));
+                    }
+                    const bool got = (pass >> lane) & 1u;
+                    passes += got;
+                    mismatches += got != expect || !sameBits(zClamped[lane], zc) || incoming[lane] != value;
+                }
+            }
+    }
+    CHECK(mismatches == 0);
+    CHECK(passes > 1000);
+}
+
+// ---- whole draws: simdBlocks on == off ----
+
+struct DepthOutPS {  // writes SV_Depth: the per-quad path handles it inside the block
+    using Varyings = ColorVaryings;
+    static constexpr int kTargetCount = 1;
+    static constexpr bool kWritesDepth = true;
+    void operator()(const PixelInput<ColorVaryings>& in, PixelOutput<1>& out) const {
+        out.target[0] = in.varyings.color;
+        out.depth = in.varyings.color.z;
+    }
+};
+
+struct DiscardPS {  // may discard, and writes derivatives and SV_Position into a float target
+    using Varyings = ColorVaryings;
+    static constexpr int kTargetCount = 2;
+    static constexpr bool kMayDiscard = true;
+    void operator()(const PixelInput<ColorVaryings>& in, PixelOutput<2>& out) const {
+        if (in.varyings.color.w > 0.8f) out.discard();
+        out.target[0] = in.varyings.color;
+        out.target[1] = glm::vec4(in.posWindow.z, in.posWindow.w, in.ddx.color.x * 64.0f, in.ddy.color.y * 64.0f);
+    }
+};
+
+struct Targets {
+    Surface color, extra, depth;
+};
+
+struct DrawCounts {
+    std::uint64_t simdBlocks = 0, leanBlocks = 0;
+};
+
+Targets renderRandomDraws(bool simd, Format colorFormat, Format depthFormat, std::uint32_t samples, std::uint32_t seed,
+                          DrawCounts& counts) {
+    constexpr std::uint32_t kW = 141, kH = 99;  // odd: partial blocks and quads at the edges
+    Targets f{Surface({kW, kH, colorFormat, samples}), Surface({kW, kH, Format::R32G32B32A32_FLOAT, samples}),
+              Surface({kW, kH, depthFormat, samples})};
+    f.color.clearColor(glm::vec4(0.1f, 0.2f, 0.3f, 0.5f));
+    f.extra.clearColor(glm::vec4(0.0f));
+    f.depth.clearDepthStencil(true, 0.6f, true, 3);
+    DeviceConfig config{16, 2};
+    config.simdBlocks = simd;
+    Device dev(config);
+    RenderTargets rt;
+    rt.colors[0] = &f.color;
+    rt.colors[1] = &f.extra;
+    rt.depthStencil = &f.depth;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.3f, 1.3f), zr(-0.2f, 1.2f), wr(0.5f, 2.5f), c(-0.1f, 1.1f);
+    for (int draw = 0; draw < 24; ++draw) {
+        std::vector<ColorVertex> verts;
+        for (int i = 0; i < 3 * 8; ++i) {  // few, large triangles: whole 8x8 blocks inside them
+            const float w = wr(rng);
+            verts.push_back({glm::vec4(u(rng) * w, u(rng) * w, zr(rng) * w, w), glm::vec4(c(rng), c(rng), c(rng), c(rng))});
+        }
+        DrawState st;
+        st.viewport = fullViewport(f.color);
+        st.viewport.minDepth = draw % 5 == 2 ? 0.2f : 0.0f;
+        st.viewport.maxDepth = draw % 5 == 3 ? 0.8f : 1.0f;
+        st.rasterizer.cullMode = CullMode(1 + draw % 3);
+        st.depthStencil.depthEnable = draw % 6 != 5;
+        st.depthStencil.depthWriteEnable = draw % 4 != 3;
+        st.depthStencil.depthFunc = ComparisonFunc(1 + (draw * 3) % 8);
+        st.depthStencil.stencilEnable = draw % 7 == 6;  // the General path
+        st.depthStencil.frontFace = {StencilOp::IncrSat, StencilOp::Invert, StencilOp::Incr, ComparisonFunc::GreaterEqual};
+        st.stencilRef = std::uint8_t(draw * 17);
+        st.precision = draw % 8 == 4 ? Precision::Fast : Precision::Exact;
+        st.blend.independentBlendEnable = true;
+        st.blend.renderTarget[0] = draw % 5 == 1 ? kAlphaBlend : RenderTargetBlendDesc{};
+        st.blend.renderTarget[0].renderTargetWriteMask = std::uint8_t(draw % 9 == 8 ? 0x5 : 0xF);
+        st.rasterizer.scissorEnable = draw == 10;
+        st.scissor = {13, 7, 120, 90};
+        const std::span<const ColorVertex> vs(verts);
+        DrawStats stats;
+        switch (draw % 4) {
+        case 0: stats = dev.draw(st, rt, vs, {}, PassThroughVS{}, DiscardPS{}); break;
+        case 1: stats = dev.draw(st, rt, vs, {}, PassThroughVS{}, DepthOutPS{}); break;
+        case 2: stats = dev.draw(st, rt, vs, {}, PassThroughVS{}, NoPixelShader{}); break;
+        default: stats = dev.draw(st, rt, vs, {}, PassThroughVS{}, ColorPS{}); break;
+        }
+        counts.simdBlocks += stats.simdBlocks;
+        counts.leanBlocks += stats.leanBlocks;
+    }
+    return f;
+}
+
+} // namespace
+
+TEST_CASE("SIMD block coverage, barycentrics, depth, w and varyings equal the scalar quad path on every target") {
+    forEachTarget(checkCoverageAndCentres);
+}
+
+TEST_CASE("SIMD block RGBA8 encode equals writeColorRgba8Unorm (exact) and writeColorRgba8UnormFast on every target") {
+    forEachTarget(checkEncode);
+}
+
+TEST_CASE("SIMD block depth test equals clampDepth + depthToD24 + compare for every function on every target") {
+    forEachTarget(checkDepthTest);
+}
+
+TEST_CASE("draws with SIMD blocks give the same bytes as the scalar path: formats, depth, stencil, blend, discard, SV_Depth, MSAA") {
+    struct Case {
+        Format color, depth;
+        std::uint32_t samples;
+    };
+    const Case cases[] = {{Format::R8G8B8A8_UNORM, Format::D32_FLOAT, 1},
+                          {Format::R8G8B8A8_UNORM, Format::D24_UNORM_S8_UINT, 1},
+                          {Format::R8G8B8A8_UNORM_SRGB, Format::D32_FLOAT_S8X24_UINT, 1},
+                          {Format::R16G16B16A16_FLOAT, Format::D24_UNORM_S8_UINT, 1},
+                          {Format::R8G8B8A8_UNORM, Format::D24_UNORM_S8_UINT, 4}};
+    for (const Case& k : cases) {
+        for (const std::uint32_t seed : {1u, 2u}) {
+            INFO("colour " << formatInfo(k.color).name << ", depth " << formatInfo(k.depth).name << ", " << k.samples
+                           << "x, seed " << seed);
+            DrawCounts simd, scalar;
+            const Targets a = renderRandomDraws(true, k.color, k.depth, k.samples, seed, simd);
+            const Targets b = renderRandomDraws(false, k.color, k.depth, k.samples, seed, scalar);
+            CHECK(sameBytes(a.color, b.color));
+            CHECK(sameBytes(a.extra, b.extra));
+            CHECK(sameBytes(a.depth, b.depth));
+            CHECK(scalar.simdBlocks == 0);
+            if (k.samples == 1) {
+                CHECK(simd.simdBlocks > 100);  // the comparison really covers the SIMD path
+                CHECK(simd.leanBlocks > 50);
+                CHECK(simd.leanBlocks < simd.simdBlocks);  // and the per-quad stage behind it
+            } else {
+                CHECK(simd.simdBlocks == 0);  // multisampled draws stay on the per-quad path
+            }
+        }
+    }
+}
