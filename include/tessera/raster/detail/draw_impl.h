@@ -258,7 +258,10 @@ struct DrawContext {
 // kSingleSample: the targets have one sample, so every per-sample loop folds away at compile time.
 template <class PS, Varyings V, DepthPath kDepth, bool kSingleSample>
 void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
-                   const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& counters) {
+                   const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& tileCounters) {
+    // Counted locally and stored once: the tiles' counters sit side by side in one vector, so
+    // per-pixel increments there would bounce cache lines between threads (false sharing).
+    TileCounters counters;
     constexpr bool kHasPs = !std::is_same_v<PS, NoPixelShader>;
     constexpr int kTargets = [] { if constexpr (kHasPs) return int(PS::kTargetCount); else return 0; }();
     constexpr bool kWritesDepth = kHasPs && writesDepth<PS>();
@@ -278,12 +281,13 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                        kTargets > 0 ? dc.colors[0] : nullptr};
     constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
     auto triangleOf = [&](const TriangleRef& ref) -> const SetupTriangle& { return chunks[ref.chunk].tris[ref.index]; };
-    // The SIMD block path: single-sample targets, varyings that fit a QuadBlock, and the whole
-    // 8x8 block inside the triangle's rectangle. Partly covered blocks stay on the per-quad path,
-    // which visits only the quads in the rectangle: with a threshold of 32 or 48 px, 3 px
-    // triangles ran no faster and 20 px ones 7% slower (bench/raster_bench, 1 thread).
+    // The SIMD block path: single-sample targets, varyings that fit a QuadBlock, and at least
+    // kSimdBlockMinPixels of the 8x8 block inside the triangle's rectangle. Smaller pieces stay on
+    // the per-quad path, which visits only the quads in the rectangle. In bench/raster_bench at one
+    // thread (best of 4 runs) thresholds 8..40 px ran the 20 px triangles about 20% faster than 64
+    // and 100 (no block path); 40 keeps most 3 px triangles (bounds up to 6x6 px) per quad.
     constexpr bool kBlockVaryings = kVaryingFloatCount<V> <= QuadBlock::kMaxVaryings;
-    constexpr std::int32_t kSimdBlockMinPixels = 64;  // px of the block inside r (all of it)
+    constexpr std::int32_t kSimdBlockMinPixels = 40;  // px of the 8x8 block inside r
     static constexpr std::int64_t kNoEdges[4][3] = {};  // unused when single-sampled
     // The lean block pipeline: a SIMD depth test of the whole block, then the shader on the
     // passing pixels, with nothing per pixel that the state does not need. For pixel-rate
@@ -570,14 +574,17 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             };
                             if constexpr (!kMayDiscard)
                                 for (std::uint64_t m = pass; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
+                            // The block's counts, kept in registers and added once (a per-pixel
+                            // add to the tile's counters was a store-to-load chain through memory).
+                            std::uint64_t quads = 0, shaded = 0, written = 0;
                             for (std::int32_t qy = by; qy < yEnd; qy += 2) {
                                 for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
                                     const int lane0 = (qy - by) * kBlock + (qx - bx);
                                     const std::uint64_t quadBits = (std::uint64_t(3) << lane0) | (std::uint64_t(3) << (lane0 + kBlock));
                                     if (!(covered & quadBits)) continue;
-                                    ++counters.quads;
+                                    ++quads;
                                     if constexpr (!kHasPs) {
-                                        counters.samplesPassed += std::uint64_t(std::popcount(pass & quadBits));
+                                        written += std::uint64_t(std::popcount(pass & quadBits));
                                     } else {
                                         if (!(pass & quadBits)) continue;
                                         const V var0 = laneVaryings(lane0);
@@ -593,10 +600,10 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                                                              block.posW[lane]),
                                                                    front, 1u, 0u};
                                             ps(in, out);
-                                            ++counters.psInvocations;
+                                            ++shaded;
                                             if (out.discarded) continue;
                                             if constexpr (kMayDiscard) writeDepth(lane);
-                                            ++counters.samplesPassed;
+                                            ++written;
                                             for (int rt = 0; rt < kTargets; ++rt) {
                                                 Surface* target = dc.colors[std::size_t(rt)];
                                                 if (!target) continue;
@@ -614,6 +621,9 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                     }
                                 }
                             }
+                            counters.quads += quads;
+                            counters.psInvocations += shaded;
+                            counters.samplesPassed += written;
                         } else {
                             for (std::int32_t qy = by; qy < yEnd; qy += 2) {
                                 for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
@@ -645,10 +655,20 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             alignas(64) std::uint32_t codes[QuadBlock::kPixels];
                             quadBlockEncodeRgba8(stash.rgba[rt], dc.fast, codes);
                             Surface* target = dc.colors[std::size_t(rt)];
-                            for (; pending != 0; pending &= pending - 1) {
-                                const int lane = std::countr_zero(pending);
-                                std::memcpy(target->texel(std::uint32_t(bx + lane % kBlock), std::uint32_t(by + lane / kBlock)),
-                                            &codes[lane], 4);
+                            for (int row = 0; row < kBlock; ++row) {
+                                auto rowBits = std::uint32_t((pending >> (row * kBlock)) & 0xFFu);
+                                if (rowBits == 0) continue;
+                                // A row's texels are contiguous (single-sampled): one copy when all
+                                // eight are written, else texel by texel.
+                                std::byte* rowTexels = target->texel(std::uint32_t(bx), std::uint32_t(by + row));
+                                if (rowBits == 0xFFu) {
+                                    std::memcpy(rowTexels, &codes[row * kBlock], 4 * kBlock);
+                                    continue;
+                                }
+                                for (; rowBits != 0; rowBits &= rowBits - 1) {
+                                    const int column = std::countr_zero(rowBits);
+                                    std::memcpy(rowTexels + 4 * column, &codes[row * kBlock + column], 4);
+                                }
                             }
                             stash.pending[rt] = 0;
                         }
@@ -695,6 +715,11 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
             }
         }
     }
+    tileCounters.quads += counters.quads;
+    tileCounters.psInvocations += counters.psInvocations;
+    tileCounters.samplesPassed += counters.samplesPassed;
+    tileCounters.simdBlocks += counters.simdBlocks;
+    tileCounters.leanBlocks += counters.leanBlocks;
 }
 
 } // namespace detail
