@@ -1,7 +1,9 @@
 // The `fast` precision mode's light loop: every light of a pixel evaluated 4, 8 or 16 at a time
-// (Highway, runtime dispatch) with approximate exp/log for pow, from lights stored as structure
-// of arrays once per frame. Same equations as doLighting (phong_lighting.h); the error against
-// `reference` is measured by tests/precision, not assumed (the summation order differs too).
+// (Highway, runtime dispatch) with fused multiply-adds, a reciprocal-square-root estimate refined
+// by one Newton step instead of sqrt and division, and approximate exp/log for pow, from lights
+// stored as structure of arrays once per frame (with the smoothstep spans' reciprocals). Same
+// equations as doLighting (phong_lighting.h); the error against `reference` is measured by
+// tests/precision, not assumed (the summation order differs too).
 #pragma once
 
 #include <cstddef>
@@ -20,7 +22,10 @@ struct FastLightSet {
     std::vector<float> ax, ay, az;   // spot: directionView; directional: normalize(-directionView)
     std::vector<float> r, g, b;      // colour x intensity
     std::vector<float> range;        // view-space units
+    // DoAttenuation's smoothstep edges as the loop uses them: 0.75 range and 1 / (range - 0.75 range).
+    std::vector<float> attenuationStart, invAttenuationSpan;
     std::vector<float> minCos, maxCos;  // DoSpotCone's constants (spot)
+    std::vector<float> invConeSpan;     // 1 / (maxCos - minCos)
     std::vector<float> kind;         // 0 point, 1 spot, 2 directional, -1 disabled or padding
     std::size_t count = 0;           // padded length
 
