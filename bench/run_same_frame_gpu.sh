@@ -112,6 +112,8 @@ trap 'rm -rf "$tmp"' EXIT
 cli=$dist/bin/tessera
 help=$("$cli" render --help 2>&1)
 if grep -q -- '--repeat' <<<"$help" && grep -q -- '--warmup' <<<"$help"; then repeat=1; else repeat=0; fi
+# --no-output (a CLI built without OpenImageIO cannot write the image); older CLIs write a scratch PNG.
+if grep -q -- '--no-output' <<<"$help"; then outArgs=(--no-output); else outArgs=(--out "$tmp/x.png"); fi
 log "tessera CLI: $([ $repeat = 1 ] && echo '--repeat 5 --warmup 1' || echo 'no --repeat/--warmup: 3 runs, middle value')"
 # "pass NAME MS ms [(lo..hi)]" and "frame MS ms ..." lines of --stats as "pass,ms" rows.
 parse_stats() { awk '$1 == "pass" && $4 == "ms" { print $2 "," $3 } $1 == "frame" && $3 == "ms" { print "frame," $2 }' "$1"; }
@@ -120,7 +122,7 @@ for spec in forward-plus:1024 deferred:256; do
   technique=${spec%%:*} lights=${spec##*:}
   for t in $threads; do
     args=(render sponza-small-lights --technique "$technique" --lights "$lights" --width 1280 --height 720
-          --threads "$t" --stats --out "$tmp/x.png")
+          --threads "$t" --stats "${outArgs[@]}")
     if [ $repeat = 1 ]; then
       f=$out/cli/$technique-t$t.txt
       "$cli" "${args[@]}" --repeat 5 --warmup 1 > "$f" 2>&1 || { log "tessera ${args[*]} failed: $(tail -1 "$f")"; status=1; continue; }

@@ -66,11 +66,14 @@ options:
   --lights N        light count of every generator in the scene file, 0..1000000
   --threads N       worker threads, 0 = all cores (default 0)
   --tile T          tile size in px, even, 8..1024 (default 64)
+  --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
+                    bytes; for comparing speed, and as the oracle the tests hold the SIMD path to)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png)
   --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
                     prints each pass's and the frame's median over the N runs; the last run is written
   --warmup K        render K untimed frames before the N timed ones, 0..100000 (default 0)
+  --no-output       render but write no file (timing and --stats only); not with --out or --dump
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
@@ -159,7 +162,7 @@ struct RenderOptions {
     tessera::DeviceConfig device;
     std::uint32_t msaa = 1;
     std::uint32_t repeat = 1, warmup = 0;
-    bool stats = false, quiet = false;
+    bool stats = false, quiet = false, noOutput = false, outGiven = false;
     tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
 };
 
@@ -174,7 +177,11 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         };
         if (a == "--help" || a == "-h") help = true;
         else if (a == "--technique") o.technique = std::string(value());
-        else if (a == "--out") o.out = std::string(value());
+        else if (a == "--out") {
+            o.out = std::string(value());
+            o.outGiven = true;
+        } else if (a == "--no-output") o.noOutput = true;
+        else if (a == "--scalar-raster") o.device.simdBlocks = false;
         else if (a == "--exr") {
             const std::string_view t = value();
             if (t == "half") o.exrType = tessera::ExrPixelType::Half;
@@ -209,6 +216,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         }
     }
     if (o.quiet) o.progress = tessera::cli::Progress::Mode::Off;
+    if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
+    if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
@@ -223,6 +232,7 @@ struct WrittenFile {
 
 std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
     std::vector<WrittenFile> written;
+    if (o.noOutput) return written;
     // The presented image: alpha ignored, as a swap chain shows it (--dump keeps stored alpha).
     written.push_back({o.out, tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType)});
     if (o.dumpDir.empty()) return written;
@@ -341,7 +351,8 @@ int renderBuiltin(const RenderOptions& o) {
         printPeakMemory();
         printHashes(written);
     }
-    if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
+    if (!o.quiet && o.noOutput) std::printf("rendered %ux%u, nothing written (--no-output)\n", opt.width, opt.height);
+    else if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
     return 0;
 }
 
@@ -419,7 +430,10 @@ int render(const std::vector<std::string_view>& args) {
                 std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
             printHashes(written);
         }
-        if (!o.quiet) std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
+        if (!o.quiet && o.noOutput)
+            std::printf("rendered %ux%u with %s, nothing written (--no-output)\n", desc.width, desc.height, desc.technique.c_str());
+        else if (!o.quiet)
+            std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;
     } catch (const std::exception& e) {
         progress.finish();

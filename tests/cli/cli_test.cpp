@@ -275,3 +275,30 @@ TEST_CASE("cli: render --repeat N prints medians over N runs and the peak memory
     CHECK(r.exitCode == 2);
     CHECK(r.output.find("--repeat: '0'") != std::string::npos);
 }
+
+TEST_CASE("cli: --scalar-raster writes the same bytes as the SIMD blocks, --stats counts the blocks, --no-output writes nothing") {
+    const auto simd = scratch("simd.png"), scalar = scratch("scalar.png"), none = scratch("none.png");
+    Run r = run("render default --width 160 --height 90 --stats --quiet --out " + simd.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    // The default scene has triangles large enough for whole 8x8 blocks.
+    CHECK(r.output.find("simd     0 blocks") == std::string::npos);
+    CHECK(r.output.find("simd     ") != std::string::npos);
+    r = run("render default --width 160 --height 90 --stats --quiet --scalar-raster --out " + scalar.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("simd     0 blocks") != std::string::npos);
+    CHECK(run("diff --json " + simd.string() + " " + scalar.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+    std::filesystem::remove(none);
+    std::filesystem::remove("tessera.png");
+    r = run("render builtin --width 40 --height 24 --no-output --stats");
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("nothing written (--no-output)") != std::string::npos);
+    CHECK(r.output.find("hash ") == std::string::npos);
+    CHECK(!std::filesystem::exists("tessera.png"));
+    r = run("render builtin --no-output --out " + none.string());
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("--no-output and --out") != std::string::npos);
+    CHECK(!std::filesystem::exists(none));
+}
