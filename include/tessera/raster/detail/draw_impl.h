@@ -302,6 +302,10 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
         std::uint64_t pending[kTargets > 0 ? kTargets : 1];
     };
     ColorStash stash{};
+    auto stashColor = [&](int rt, int lane, const glm::vec4& src) {
+        for (std::size_t c = 0; c < 4; ++c) stash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
+        stash.pending[rt] |= std::uint64_t(1) << lane;
+    };
     for (std::size_t k = 0; k < list.size(); ++k) {
         if (k + kAheadTri < list.size()) {
             const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
@@ -459,9 +463,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                 const glm::vec4& src = out.target[std::size_t(rt)];
                                 const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
                                 if (overwrite && lanes) {  // single-sampled: passMask == 1
-                                    const std::size_t lane = std::size_t(lanes[p]);
-                                    for (std::size_t c = 0; c < 4; ++c) stash.rgba[rt][c * QuadBlock::kPixels + lane] = src[int(c)];
-                                    stash.pending[rt] |= std::uint64_t(1) << lane;
+                                    stashColor(rt, lanes[p], src);
                                     continue;
                                 }
                                 for (std::uint32_t s = 0; s < sampleCount; ++s) {
@@ -549,7 +551,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             alignas(64) float zClamped[QuadBlock::kPixels];
                             alignas(64) std::uint32_t incoming[QuadBlock::kPixels];
                             if constexpr (kDepth == DepthPath::D32 || kDepth == DepthPath::D24) {
-                                alignas(64) std::uint32_t stored[QuadBlock::kPixels];
+                                alignas(64) std::uint32_t stored[QuadBlock::kPixels] = {};  // lanes outside `covered` stay 0
                                 for (std::uint64_t m = covered; m != 0; m &= m - 1) {
                                     const int lane = std::countr_zero(m);
                                     const auto [px, py] = pixelOf(lane);
@@ -609,9 +611,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                                 if (!target) continue;
                                                 const glm::vec4& src = out.target[std::size_t(rt)];
                                                 if (dc.rgba8Overwrite[std::size_t(rt)]) {
-                                                    for (std::size_t c = 0; c < 4; ++c)
-                                                        stash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
-                                                    stash.pending[rt] |= std::uint64_t(1) << lane;
+                                                    stashColor(rt, lane, src);
                                                 } else {
                                                     writeColorSample(target->format(), target->texel(px, py), src,
                                                                      dc.blend[std::size_t(rt)], dc.blendFactor);
