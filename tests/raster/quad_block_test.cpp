@@ -197,7 +197,7 @@ void checkDepthTest() {
                                                               zClamped, incoming);
                 for (int lane = 0; lane < 64; ++lane) {
                     if (!((lanes >> lane) & 1u)) {
-                        mismatches += (pass >> lane) & 1u;  // never outside `lanes`
+                        mismatches += int((pass >> lane) & 1u);  // never outside `lanes`
                         continue;
                     }
                     const float zc = detail::clampDepth(z[lane], minDepth, maxDepth);
