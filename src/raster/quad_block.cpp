@@ -134,6 +134,86 @@ void BlockEncodeRgba8(const float* HWY_RESTRICT rgba, bool fast, std::uint32_t* 
     }
 }
 
+// One blend factor (output_merger.cpp's factor()) for channel c (0..2 colour, 3 alpha) of a
+// vector of pixels: s, d, k are the clamped source, decoded destination and clamped constant.
+template <class D, class V>
+V BlendFactorOf(D df, Blend b, int c, const V* s, const V* dst, const V* k) {
+    const auto one = hn::Set(df, 1.0f);
+    switch (b) {
+    case Blend::Zero: return hn::Zero(df);
+    case Blend::One: return one;
+    case Blend::SrcColor: return s[c];
+    case Blend::InvSrcColor: return hn::Sub(one, s[c]);
+    case Blend::SrcAlpha: return s[3];
+    case Blend::InvSrcAlpha: return hn::Sub(one, s[3]);
+    case Blend::DestAlpha: return dst[3];
+    case Blend::InvDestAlpha: return hn::Sub(one, dst[3]);
+    case Blend::DestColor: return dst[c];
+    case Blend::InvDestColor: return hn::Sub(one, dst[c]);
+    case Blend::SrcAlphaSat: {  // std::min(As, 1 - Ad): the second operand where it is smaller
+        if (c == 3) return one;
+        const auto invDstAlpha = hn::Sub(one, dst[3]);
+        return hn::IfThenElse(hn::Lt(invDstAlpha, s[3]), invDstAlpha, s[3]);
+    }
+    case Blend::BlendFactor: return k[c];
+    case Blend::InvBlendFactor: return hn::Sub(one, k[c]);
+    default: return hn::Zero(df);  // dual-source: rejected by validation before drawing
+    }
+}
+
+// output_merger.cpp's combine(): products and sums rounded one at a time (never fused); MIN and
+// MAX as std::min / std::max, the first operand unless the second is strictly smaller / larger.
+template <class V>
+V BlendCombine(BlendOp op, V s, V fs, V d, V fd) {
+    switch (op) {
+    case BlendOp::Add: return hn::Add(hn::Mul(s, fs), hn::Mul(d, fd));
+    case BlendOp::Subtract: return hn::Sub(hn::Mul(s, fs), hn::Mul(d, fd));
+    case BlendOp::RevSubtract: return hn::Sub(hn::Mul(d, fd), hn::Mul(s, fs));
+    case BlendOp::Min: return hn::IfThenElse(hn::Lt(d, s), d, s);
+    case BlendOp::Max: return hn::IfThenElse(hn::Lt(s, d), d, s);
+    }
+    return s;
+}
+
+void BlockBlendRgba8(float* HWY_RESTRICT rgba, const std::uint32_t* HWY_RESTRICT dstCodes,
+                     const RenderTargetBlendDesc& blend, const float* blendFactor) {
+    const hn::CappedTag<float, kSide> df;
+    const hn::RebindToUnsigned<decltype(df)> du;
+    const hn::RebindToSigned<decltype(df)> di;
+    const std::size_t n = hn::Lanes(df);
+    using V = hn::Vec<decltype(df)>;
+    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f), max8 = hn::Set(df, 255.0f);
+    // clampTo(v, 0, 1): NaN -> 0, then std::min(std::max(v, 0), 1) (max keeps v unless 0 is larger).
+    const auto clampUnorm = [&](V v) {
+        const auto lo = hn::IfThenElse(hn::Lt(v, zero), zero, v);
+        const auto clamped = hn::IfThenElse(hn::Lt(one, lo), one, lo);
+        return hn::IfThenElse(hn::Eq(v, v), clamped, zero);
+    };
+    V k[4];
+    for (int c = 0; c < 4; ++c) k[c] = clampUnorm(hn::Set(df, blendFactor[c]));
+    const std::uint8_t mask = blend.renderTargetWriteMask & WriteAll;
+    for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += n) {
+        const auto codes = hn::LoadU(du, dstCodes + p);
+        V s[4], dst[4], result[4];
+        for (int c = 0; c < 4; ++c) {
+            s[c] = clampUnorm(hn::LoadU(df, rgba + c * QuadBlock::kPixels + p));
+            // unormToFloat(code, 8): float(code) / 255, correctly rounded in every lane.
+            const auto code = hn::BitCast(di, hn::And(hn::ShiftRightSame(codes, 8 * c), hn::Set(du, 0xFFu)));
+            dst[c] = hn::Div(hn::ConvertTo(df, code), max8);
+            result[c] = s[c];
+        }
+        if (blend.blendEnable) {
+            for (int c = 0; c < 3; ++c)
+                result[c] = BlendCombine(blend.blendOp, s[c], BlendFactorOf(df, blend.srcBlend, c, s, dst, k), dst[c],
+                                         BlendFactorOf(df, blend.destBlend, c, s, dst, k));
+            result[3] = BlendCombine(blend.blendOpAlpha, s[3], BlendFactorOf(df, blend.srcBlendAlpha, 3, s, dst, k), dst[3],
+                                     BlendFactorOf(df, blend.destBlendAlpha, 3, s, dst, k));
+        }
+        for (int c = 0; c < 4; ++c)
+            hn::StoreU((mask >> c) & 1u ? result[c] : dst[c], df, rgba + c * QuadBlock::kPixels + p);
+    }
+}
+
 std::uint64_t BlockDepthTest(const float* HWY_RESTRICT z, const std::uint32_t* HWY_RESTRICT stored, std::uint64_t lanes,
                              bool d24, ComparisonFunc func, float minDepth, float maxDepth, float* HWY_RESTRICT zClamped,
                              std::uint32_t* HWY_RESTRICT incoming) {
@@ -212,6 +292,7 @@ HWY_EXPORT(BlockCentres);
 HWY_EXPORT(BlockTarget);
 HWY_EXPORT(BlockEncodeRgba8);
 HWY_EXPORT(BlockDepthTest);
+HWY_EXPORT(BlockBlendRgba8);
 
 std::uint64_t quadBlockCoverage(const SetupTriangle& t, const QuadBlock::Edges& e, std::uint8_t columns,
                                 std::uint8_t rows) {
@@ -225,6 +306,12 @@ void quadBlockCentres(const SetupTriangle& t, const QuadBlock::Edges& e, const f
 
 void quadBlockEncodeRgba8(const float* rgba, bool fast, std::uint32_t* codes) {
     HWY_DYNAMIC_DISPATCH(BlockEncodeRgba8)(rgba, fast, codes);
+}
+
+void quadBlockBlendRgba8(float* rgba, const std::uint32_t* dstCodes, const RenderTargetBlendDesc& blend,
+                         const glm::vec4& blendFactor) {
+    const float factor[4] = {blendFactor.x, blendFactor.y, blendFactor.z, blendFactor.w};
+    HWY_DYNAMIC_DISPATCH(BlockBlendRgba8)(rgba, dstCodes, blend, factor);
 }
 
 std::uint64_t quadBlockDepthTest(const float* z, const std::uint32_t* stored, std::uint64_t lanes, bool d24,

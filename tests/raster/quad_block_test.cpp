@@ -15,6 +15,7 @@
 #include <hwy/targets.h>
 
 #include <tessera/buffers/conversion.h>
+#include <tessera/raster/output_merger.h>
 #include <tessera/raster/quad_block.h>
 
 #include "support/surface_compare.h"
@@ -168,6 +169,46 @@ void checkEncode() {
     CHECK(mismatches == 0);
 }
 
+void checkBlend() {
+    // Random sources (outside [0, 1] and NaN too) over random destination codes, for every factor
+    // pair, op and write mask against writeColorSample on an R8G8B8A8_UNORM texel.
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    const Blend factors[] = {Blend::Zero, Blend::One, Blend::SrcColor, Blend::InvSrcColor, Blend::SrcAlpha,
+                             Blend::InvSrcAlpha, Blend::DestAlpha, Blend::InvDestAlpha, Blend::DestColor,
+                             Blend::InvDestColor, Blend::SrcAlphaSat, Blend::BlendFactor, Blend::InvBlendFactor};
+    const glm::vec4 blendFactor(0.3f, 1.7f, std::numeric_limits<float>::quiet_NaN(), 0.6f);
+    int mismatches = 0, cases = 0;
+    for (int op = 1; op <= 5; ++op)
+        for (const Blend src : factors)
+            for (const Blend dst : factors) {
+                const std::uint8_t mask = std::uint8_t(1 + (cases % 15));
+                const RenderTargetBlendDesc desc{true, src, dst, BlendOp(op), dst, src, BlendOp(1 + (op % 5)), mask};
+                ++cases;
+                alignas(64) float rgba[4 * 64];
+                alignas(64) std::uint32_t dstCodes[64];
+                for (int lane = 0; lane < 64; ++lane) {
+                    dstCodes[lane] = std::uint32_t(rng());
+                    for (int c = 0; c < 4; ++c)
+                        rgba[c * 64 + lane] = lane == 5 && c == 1 ? std::numeric_limits<float>::quiet_NaN() : u(rng);
+                }
+                float blended[4 * 64];
+                std::memcpy(blended, rgba, sizeof(rgba));
+                quadBlockBlendRgba8(blended, dstCodes, desc, blendFactor);
+                alignas(64) std::uint32_t codes[64];
+                quadBlockEncodeRgba8(blended, false, codes);
+                for (int lane = 0; lane < 64; ++lane) {
+                    std::uint32_t expect = dstCodes[lane];
+                    writeColorSample(Format::R8G8B8A8_UNORM, reinterpret_cast<std::byte*>(&expect),
+                                     glm::vec4(rgba[lane], rgba[64 + lane], rgba[128 + lane], rgba[192 + lane]), desc,
+                                     blendFactor);
+                    mismatches += expect != codes[lane];
+                }
+            }
+    CHECK(cases == 5 * 13 * 13);
+    CHECK(mismatches == 0);
+}
+
 void checkDepthTest() {
     std::mt19937 rng(13);
     std::uniform_real_distribution<float> u(-0.2f, 1.2f);
@@ -287,8 +328,19 @@ Targets renderRandomDraws(bool simd, Format colorFormat, Format depthFormat, std
         st.stencilRef = std::uint8_t(draw * 17);
         st.precision = draw % 8 == 4 ? Precision::Fast : Precision::Exact;
         st.blend.independentBlendEnable = true;
-        st.blend.renderTarget[0] = draw % 5 == 1 ? kAlphaBlend : RenderTargetBlendDesc{};
-        st.blend.renderTarget[0].renderTargetWriteMask = std::uint8_t(draw % 9 == 8 ? 0x5 : 0xF);
+        // Every blend factor and op appears (alpha blending, additive, and two states that use the
+        // rest), beside overwrites; partial write masks on blended and unblended draws.
+        const RenderTargetBlendDesc blends[] = {
+            RenderTargetBlendDesc{}, kAlphaBlend, kAdditiveBlend,
+            {true, Blend::SrcColor, Blend::InvDestColor, BlendOp::Subtract, Blend::DestAlpha, Blend::InvSrcAlpha,
+             BlendOp::RevSubtract, WriteAll},
+            {true, Blend::SrcAlphaSat, Blend::BlendFactor, BlendOp::Min, Blend::InvBlendFactor, Blend::InvDestAlpha,
+             BlendOp::Max, WriteAll},
+            {true, Blend::DestColor, Blend::InvSrcColor, BlendOp::Max, Blend::Zero, Blend::SrcAlphaSat, BlendOp::Min,
+             WriteAll}};
+        st.blend.renderTarget[0] = blends[draw % 3 == 0 ? 0 : 1 + (draw / 3) % 5];
+        st.blend.renderTarget[0].renderTargetWriteMask = std::uint8_t(draw % 9 == 8 ? 0x5 : (draw % 11 == 7 ? 0x0 : 0xF));
+        st.blendFactor = {0.25f, 1.5f, -0.5f, 0.75f};  // clamped to [0, 1] for UNORM targets
         st.rasterizer.scissorEnable = draw == 10;
         st.scissor = {13, 7, 120, 90};
         const std::span<const ColorVertex> vs(verts);
@@ -313,6 +365,10 @@ TEST_CASE("SIMD block coverage, barycentrics, depth, w and varyings equal the sc
 
 TEST_CASE("SIMD block RGBA8 encode equals writeColorRgba8Unorm (exact) and writeColorRgba8UnormFast on every target") {
     forEachTarget(checkEncode);
+}
+
+TEST_CASE("SIMD block RGBA8 blend equals writeColorSample for every factor, op and write mask on every target") {
+    forEachTarget(checkBlend);
 }
 
 TEST_CASE("SIMD block depth test equals clampDepth + depthToD24 + compare for every function on every target") {

@@ -6,7 +6,10 @@
 
 #include <cstdint>
 
+#include <glm/vec4.hpp>
+
 #include <tessera/raster/triangle_setup.h>
+#include <tessera/state/blend_state.h>
 #include <tessera/state/comparison.h>
 
 namespace tessera {
@@ -48,6 +51,15 @@ void quadBlockCentres(const SetupTriangle& t, const QuadBlock::Edges& e, const f
 // writeColorRgba8UnormFast's float x * 255 + 0.5 truncated. codes[lane] holds the four bytes
 // in memory order (R first), ready to copy into the texel.
 void quadBlockEncodeRgba8(const float* rgba, bool fast, std::uint32_t* codes);
+
+// writeColorSample's blend for R8G8B8A8_UNORM (output_merger.cpp) on 64 pixels, up to the
+// encode: rgba (c * 64 + lane) holds the shader's colours and receives the values encodeTexel
+// then rounds (quadBlockEncodeRgba8 with fast = false); dstCodes[lane] the texel's four bytes.
+// The source and the blend factor clamped to [0, 1] (NaN -> 0), the destination decoded as
+// code / 255, factors and ops of D3D11_BLEND / D3D11_BLEND_OP in the scalar code's operation order, channels
+// outside the write mask keep the destination. Every lane is computed; callers store only theirs.
+void quadBlockBlendRgba8(float* rgba, const std::uint32_t* dstCodes, const RenderTargetBlendDesc& blend,
+                         const glm::vec4& blendFactor);
 
 // The depth test of DepthPath D32 / D24 (output_merger.h: stencil inactive) for the lanes in
 // `lanes`: z clamped to [minDepth, maxDepth] (NaN -> minDepth) as the scalar clampDepth, and for

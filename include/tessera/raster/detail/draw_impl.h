@@ -240,6 +240,9 @@ struct DrawContext {
     std::array<Surface*, kMaxRenderTargets> colors;
     std::array<RenderTargetBlendDesc, kMaxRenderTargets> blend;
     std::array<bool, kMaxRenderTargets> rgba8Overwrite;  // isRgba8UnormOverwrite per target
+    // R8G8B8A8_UNORM with blending or a partial write mask (some channel written): in SIMD
+    // blocks these colours are stashed too and blended 64 at a time (quadBlockBlendRgba8).
+    std::array<bool, kMaxRenderTargets> rgba8Blend;
     glm::vec4 blendFactor;
     Surface* depthStencil;
     DepthStencilUnit ds;
@@ -295,7 +298,8 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
     // failing samples cannot write (checked per triangle); otherwise the block feeds shadeQuad.
     constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthPath::General;
     QuadBlock block;
-    // RGBA8 overwrites of one triangle's block, per target: colour c of lane p at rgba[c * 64 + p].
+    // RGBA8 colours of one triangle's block, per target (overwrites, and blends when
+    // dc.rgba8Blend): colour c of lane p at rgba[c * 64 + p].
     // Zeroed once, so the encoder never reads indeterminate lanes.
     struct ColorStash {
         alignas(64) float rgba[kTargets > 0 ? kTargets : 1][4 * QuadBlock::kPixels];
@@ -462,7 +466,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                 if (!target) continue;
                                 const glm::vec4& src = out.target[std::size_t(rt)];
                                 const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
-                                if (overwrite && lanes) {  // single-sampled: passMask == 1
+                                if ((overwrite || dc.rgba8Blend[std::size_t(rt)]) && lanes) {  // single-sampled: passMask == 1
                                     stashColor(rt, lanes[p], src);
                                     continue;
                                 }
@@ -610,7 +614,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                                 Surface* target = dc.colors[std::size_t(rt)];
                                                 if (!target) continue;
                                                 const glm::vec4& src = out.target[std::size_t(rt)];
-                                                if (dc.rgba8Overwrite[std::size_t(rt)]) {
+                                                if (dc.rgba8Overwrite[std::size_t(rt)] || dc.rgba8Blend[std::size_t(rt)]) {
                                                     stashColor(rt, lane, src);
                                                 } else {
                                                     writeColorSample(target->format(), target->texel(px, py), src,
@@ -646,15 +650,26 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                 }
                             }
                         }
-                        // The triangle's stashed RGBA8 overwrites in this block, encoded 64 at a time.
-                        // Deferring them is invisible: a triangle's pixels are disjoint and nothing
-                        // reads a colour target before the next triangle starts.
+                        // The triangle's stashed RGBA8 colours in this block, blended and encoded 64
+                        // at a time. Deferring them is invisible: a triangle's pixels are disjoint
+                        // and nothing reads a colour target before the next triangle starts.
                         for (int rt = 0; rt < kTargets; ++rt) {
                             std::uint64_t pending = stash.pending[rt];
                             if (pending == 0) continue;
-                            alignas(64) std::uint32_t codes[QuadBlock::kPixels];
-                            quadBlockEncodeRgba8(stash.rgba[rt], dc.fast, codes);
                             Surface* target = dc.colors[std::size_t(rt)];
+                            const bool blend = dc.rgba8Blend[std::size_t(rt)];
+                            if (blend) {
+                                alignas(64) std::uint32_t dstCodes[QuadBlock::kPixels] = {};
+                                for (std::uint64_t m = pending; m != 0; m &= m - 1) {
+                                    const int lane = std::countr_zero(m);
+                                    const auto [px, py] = pixelOf(lane);
+                                    std::memcpy(&dstCodes[lane], target->texel(px, py), 4);
+                                }
+                                quadBlockBlendRgba8(stash.rgba[rt], dstCodes, dc.blend[std::size_t(rt)], dc.blendFactor);
+                            }
+                            // writeColorSample encodes blends exactly in every precision mode.
+                            alignas(64) std::uint32_t codes[QuadBlock::kPixels];
+                            quadBlockEncodeRgba8(stash.rgba[rt], dc.fast && !blend, codes);
                             for (int row = 0; row < kBlock; ++row) {
                                 auto rowBits = std::uint32_t((pending >> (row * kBlock)) & 0xFFu);
                                 if (rowBits == 0) continue;
@@ -763,7 +778,7 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
             }
         };
 
-        detail::DrawContext dc{&state, dt, targets.colors, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
+        detail::DrawContext dc{&state, dt, targets.colors, {}, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
                                standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
                                mConfig.simdBlocks};
@@ -771,6 +786,9 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
             dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
             dc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), dc.blend[rt]);
+            dc.rgba8Blend[rt] = targets.colors[rt] && !dc.rgba8Overwrite[rt] &&
+                                targets.colors[rt]->format() == Format::R8G8B8A8_UNORM &&
+                                (dc.blend[rt].renderTargetWriteMask & WriteAll) != 0;
             blends = blends || (targets.colors[rt] && dc.blend[rt].blendEnable);
         }
         if (targets.depthStencil) dc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
