@@ -1,5 +1,5 @@
 // Light-culling benchmark of the tiled techniques (issue 5, Performance) on the 3dgep experiment
-// (seed 000 §5: Sponza, 1280x720, N large or small lights) by tile size and thread count: median
+// (3dgep article §5: Sponza, 1280x720, N large or small lights) by tile size and thread count: median
 // pass times after a warm-up, lights per tile and the false-positive rate. Prints a markdown
 // table; command and results in bench/RESULTS.md.
 //

@@ -1,5 +1,5 @@
 // Rasterizer throughput: tessera against Mesa llvmpipe on the same three workloads at 1920x1080
-// (spec/peers.md B "Timing"): 1M random right triangles with 3 px legs, 100k with 20 px legs
+// (first timed on llvmpipe alone): 1M random right triangles with 3 px legs, 100k with 20 px legs
 // (depth test LESS, RGBA8 + D32F_S8 like the peer), and a full-screen quad with depth off.
 // Command, machine and results: bench/RESULTS.md; bench/run_raster_bench.sh builds and runs it.
 #include <benchmark/benchmark.h>

@@ -57,7 +57,7 @@ KNOBS_FULL = {
     "forward-plus": [{}, {"tileSize": 8}, {"tileSize": 32}, {"culling": "brute"}, {"coneTest": "corrected"},
                      {"lightLists": "unbounded"}],
     "tiled-deferred": [{}, {"shading": "3dgep"}, {"shading": "3dgep", "tileSize": 8}, {"shading": "3dgep", "tileSize": 32},
-                       {"shading": "3dgep", "gbuffer": "float"}, {"tilePlanes": "seed004"},
+                       {"shading": "3dgep", "gbuffer": "float"}, {"tilePlanes": "tile"},
                        {"tileListCapacity": "unbounded"}],
     "forward-plus-amd": [{}, {"shading": "3dgep"}, {"culling": "min-max"}, {"halfZ": True},
                          {"lightLoop": "all-lights"}, {"shading": "3dgep", "culling": "min-max"}],

@@ -1,4 +1,4 @@
-// Per-pass frame times of the scene techniques on the 3dgep experiment (seed 000 §5): Sponza at
+// Per-pass frame times of the scene techniques on the 3dgep experiment (article §5): Sponza at
 // 1280x720 with N generated lights (large: range 35-40, small: range 1-2), median over frames
 // after a warm-up, at each thread count. Prints a markdown table; command and results in
 // bench/RESULTS.md.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Runs technique_bench over the 3dgep experiment's sweep (seed 000 §5: large lights 1..512, small
+# Runs technique_bench over the 3dgep experiment's sweep (3dgep article §5: large lights 1..512, small
 # lights 1..2048, forward and deferred, 1 and 2 threads) as one process per cell, several at once,
 # each pinned to its own cores (taskset) so that a 16-core host measures many 1- and 2-thread
 # cells side by side. Writes the cells' markdown rows to --out, sorted. Used for bench/RESULTS.md.

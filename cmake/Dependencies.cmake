@@ -1,5 +1,5 @@
 # Finds tessera's Debian 12 dependencies through their CMake config packages and works around
-# the packaging pitfalls recorded in shared/spec/images-and-deps.md.
+# Debian 12's packaging pitfalls (each explained where it is handled below).
 find_package(glm CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
 find_package(hwy CONFIG REQUIRED)     # Highway (libhwy-dev): portable SIMD with runtime dispatch, target hwy::hwy

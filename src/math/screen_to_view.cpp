@@ -1,4 +1,4 @@
-// ScreenToView / ClipToView of the 3dgep shaders (seed 000 §5) in binary32 with a fixed
+// ScreenToView / ClipToView of the 3dgep shaders (3dgep article §3.3.3) in binary32 with a fixed
 // operation order, and the corner / centre sample points of the deferred lighting pass.
 #include <tessera/math/screen_to_view.h>
 

@@ -1,5 +1,5 @@
 // Specular power packing of the 3dgep G-buffer: log2(p)/10.5 into an UNORM8 alpha and back
-// (seed 000 §5). The float -> UNORM step is the project's D3D11.3 conversion.
+// (3dgep article §3.1.1.4). The float -> UNORM step is the project's D3D11.3 conversion.
 #include <tessera/math/specular_power_packing.h>
 
 #include <tessera/buffers/conversion.h>

@@ -1,4 +1,4 @@
-// The 3dgep pixel shader (seed 000 §4, the demo's ForwardRendering.hlsl PS_main) as one template
+// The 3dgep pixel shader (3dgep article §2.3, the demo's ForwardRendering.hlsl PS_main) as one template
 // over the scalar and the material's feature mask, its variant table, the texel-offset Sample of
 // the bump-mapping path, the UNORM texture set and the view-space light conversion.
 #include <tessera/shading/phong_material_shader.h>

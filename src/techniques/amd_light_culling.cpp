@@ -1,4 +1,4 @@
-// The GPU Pro 4 light-culling kernel (seed 002 §2, §6) as a compute::dispatch kernel: one group of
+// The GPU Pro 4 light-culling kernel (§5.3.1, §5.6.1) as a compute::dispatch kernel: one group of
 // 8x8 threads per tile, group-shared depth bounds, 2.5D mask and light list, then the write-back
 // into one global pool with the offsets InterlockedAdd hands out in row-major group order, so
 // Parallel and Serial give the same bytes. The binned light loop (tessera) hands each group its

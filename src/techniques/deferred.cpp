@@ -1,4 +1,4 @@
-// The `deferred` and `deferred-killzone` techniques (seed 000 §5; the demo's g_DeferredTechnique in
+// The `deferred` and `deferred-killzone` techniques (3dgep article §3; the demo's g_DeferredTechnique in
 // main.cpp, DeferredRendering.hlsl PS_Geometry / PS_DeferredLighting, DeferredLightingPass.cpp):
 // clear -> G-buffer -> depth copy -> per-light volumes -> (compose / present) -> transparent.
 // Options and buffers are documented in include/tessera/techniques/deferred.h.
@@ -583,8 +583,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    }});
     }
 
-    // The demo's TransparentPass with g_pTransparentPipeline, as forward's (seed 000 §5:
-    // "identical to forward"), over the back buffer and the G-buffer's depth.
+    // The demo's TransparentPass with g_pTransparentPipeline, as forward's (3dgep article §3.4:
+    // "identical to the forward rendering technique"), over the back buffer and the G-buffer's depth.
     frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
                [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
                    RenderTargets rt;

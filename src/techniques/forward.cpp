@@ -1,4 +1,4 @@
-// The `forward` technique (seed 000 §4 "Forward technique"; the demo's g_ForwardTechnique in
+// The `forward` technique (3dgep article §1.1 "Definitions"; the demo's g_ForwardTechnique in
 // main.cpp): clear -> opaque pass -> transparent pass, one draw per (instance, primitive) in scene
 // order, every enabled light per pixel through the specialized Phong pixel shader.
 #include <tessera/techniques/forward.h>

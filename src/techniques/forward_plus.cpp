@@ -1,4 +1,4 @@
-// The `forward-plus` technique (seed 000 §6; the demo's g_ForwardPlusTechnique in main.cpp and
+// The `forward-plus` technique (3dgep article §4; the demo's g_ForwardPlusTechnique in main.cpp and
 // ForwardPlusRendering.hlsl): clear -> depth pre-pass -> CS_ComputeFrustums -> CS_main (light
 // culling: row-parallel, or with culling "brute" emulated with compute::dispatch) -> heat map
 // (CS_main's DebugTexture) -> opaque pass -> transparent pass, the last two through forward's
@@ -99,7 +99,7 @@ SurfaceDesc indexListDesc(std::uint64_t capacity) {
     return {static_cast<std::uint32_t>(width), static_cast<std::uint32_t>(height), Format::R32_UINT, 1};
 }
 
-// ----- CS_ComputeFrustums (seed 000 §6) ----------------------------------------------------------
+// ----- CS_ComputeFrustums (3dgep article §4.2) ---------------------------------------------------
 // One thread per tile, BLOCK_SIZE x BLOCK_SIZE threads per group, ceil(tiles / BLOCK_SIZE) groups;
 // threads past numThreads (= tiles) write nothing.
 template <std::uint32_t kBlock>
@@ -192,7 +192,7 @@ LightTileRect lightTileRect(const ViewLight<float>& light, const BoundingSphere&
     return columns && rows ? rect : LightTileRect{};
 }
 
-// ----- CS_main: the light culling (seed 000 §6 and §10, reference-implementations.md §1.7) --------
+// ----- CS_main: the light culling (3dgep article §4.3–§4.5; demo ForwardPlusRendering.hlsl) -------
 
 struct CullShared {
     std::uint32_t uMinDepth, uMaxDepth;  // groupshared, asuint of the depth-buffer values

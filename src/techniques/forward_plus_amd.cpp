@@ -1,4 +1,4 @@
-// The `forward-plus-amd` technique (seed 002; reference-implementations.md §2): clear -> depth
+// The `forward-plus-amd` technique (GPU Pro 4 ch. 5; ForwardPlus11, TiledLighting11): clear -> depth
 // pre-pass (forward-plus's) -> light culling (cullTilesAmd: opaque lists with 2.5D / half-Z, then
 // the transparent [near, maxZ] lists) -> opaque pass -> transparent pass, shaded with AMD's
 // lighting or, with "shading": "3dgep", forward's Phong passes reading the AMD lists.
@@ -71,7 +71,7 @@ AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
 }
 
 // AMD's world-space light properties, indexed by scene light index (g_PointLightBuffer* /
-// g_SpotLightBuffer* of the demo, seed 002 §2.6). kind: what the light is to the AMD shader.
+// g_SpotLightBuffer* of ForwardPlus11; GPU Pro 4 §5.3.1). kind: what the light is to the AMD shader.
 enum class AmdKind : std::uint8_t { None, Point, Spot };
 
 struct AmdLightTable {

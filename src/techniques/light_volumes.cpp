@@ -1,5 +1,5 @@
 // Light-volume meshes (assimp NFF sphere and cone as the 3dgep demo loads them), their
-// circumscribed scales and the per-light model matrix (reference-implementations.md §1.6).
+// circumscribed scales and the per-light model matrix (3dgep demo DeferredLightingPass.cpp).
 #include <tessera/techniques/light_volumes.h>
 
 #include <algorithm>

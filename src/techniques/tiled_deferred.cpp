@@ -1,4 +1,4 @@
-// The `tiled-deferred` technique (Intel 2010 ComputeShaderTile.hlsl, seed 004): clear -> G-buffer
+// The `tiled-deferred` technique (Intel 2010 sample, ComputeShaderTile.hlsl): clear -> G-buffer
 // (deferred's pass) -> one compute dispatch, a group per tile: view-z range, Intel tile planes,
 // light culling into the tile's list, shading of the tile's pixels -> present -> transparent
 // (forward). Options and buffers are documented in include/tessera/techniques/tiled_deferred.h.
@@ -142,7 +142,7 @@ TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
     o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
     o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
     o.spheremap = optionEnum(j, "normals", {"spheremap", "float"}, "spheremap", file) == "spheremap";
-    o.planes = optionEnum(j, "tilePlanes", {"sample2010", "seed004"}, "sample2010", file) == "seed004" ? IntelSidePlanes::Seed004
+    o.planes = optionEnum(j, "tilePlanes", {"sample2010", "tile"}, "sample2010", file) == "tile" ? IntelSidePlanes::TileBounds
                                                                                                       : IntelSidePlanes::Sample2010;
     optionEnum(j, "projection", {"d3d"}, "d3d", file);
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf

@@ -5,7 +5,7 @@
 // edges, and depth clip off (clamping).
 //
 // Why exact matching is possible: both snap to 1/256 px and use the top-left rule in D3D row
-// space (spec/peers.md "Fill rule, measured"). Vertices are chosen so that every float step
+// space (measured: tests/peer/gl_peer.cpp). Vertices are chosen so that every float step
 // before snapping is exact in both implementations: a 256x256 target (NDC <-> window is a
 // power-of-two scale), window positions on the 1/128 px grid, clip w a power of two, and
 // clipped edges crossing the plane at their midpoint (t = 1/2), so clip vertices land on the

@@ -1,5 +1,5 @@
-// Golden images of the bundled scenes through `deferred` and `deferred-killzone` (3dgep, seed
-// 000 §5) with the faithful defaults: G-buffer formats, stencil light volumes, the demo's corner
+// Golden images of the bundled scenes through `deferred` and `deferred-killzone` (3dgep article
+// §3) with the faithful defaults: G-buffer formats, stencil light volumes, the demo's corner
 // reconstruction and GL-form projection end to end. 320x180 at 1 and 2 threads (bytes must agree).
 #include "support/bundled_scene.h"
 

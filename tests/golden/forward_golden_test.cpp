@@ -1,4 +1,4 @@
-// Golden images of the bundled scenes through the `forward` technique (3dgep, seed 000): the
+// Golden images of the bundled scenes through the `forward` technique (3dgep article §2): the
 // Phong material gathering, every light per pixel, the demo's projection and pass states end to
 // end. The 320x180 renders run at 1 and 2 threads (bytes must agree); the one full-size Sponza
 // view (1280x720, the article's resolution, 64 large lights) runs once, at 2 threads.

@@ -1,5 +1,5 @@
-// Golden images of the bundled scenes through `tiled-deferred` (Intel 2010 tiled deferred, seed
-// 004) with the faithful defaults: 16x16 tiles, the 2010 sample's side planes, Intel's shading
+// Golden images of the bundled scenes through `tiled-deferred` (Intel 2010 sample) with the
+// faithful defaults: 16x16 tiles, the 2010 sample's side planes, Intel's shading
 // and spheremap normal storage. 320x180 at 1 and 2 threads (bytes must agree).
 #include "support/bundled_scene.h"
 

@@ -8,7 +8,7 @@
 //   gl_Position.y = -posClip.y, so GL (lower-left origin) computes
 //   yGlWindow = (-yNdc + 1) * H/2 = yWindow: the same number. GL memory row r covers
 //   yGlWindow in [r, r+1), so D3D row r is glReadPixels row r; no flip on read-back.
-//   Measured (spec/peers.md): with GL_LOWER_LEFT llvmpipe includes pixel centres on min-x and
+//   Measured (Mesa 22.3.6 llvmpipe): with GL_LOWER_LEFT llvmpipe includes pixel centres on min-x and
 //   min-row edges, which in D3D row space is exactly the top-left rule.
 // * Front face. GL computes the signed area a = 1/2 sum(x_i*y_{i+1} - x_{i+1}*y_i) in GL window
 //   coordinates and calls a > 0 "counter-clockwise" (y up). Our GL window coordinates equal the

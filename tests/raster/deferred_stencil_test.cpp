@@ -26,7 +26,7 @@ struct PosVertex {
     glm::vec3 posObject;
 };
 
-// VS: SV_Position = ModelViewProjection * position (seed 000 §3), no varyings.
+// VS: SV_Position = ModelViewProjection * position (3dgep article §2.1), no varyings.
 struct VolumeVS {
     glm::mat4 clipFromObject{1.0f};
     using Varyings = NoVaryings;
@@ -376,7 +376,7 @@ TEST_CASE("(d) eye inside the volume: 3dgep shades the inside pixels, Killzone 2
     CHECK(c.outside > 100);
     CHECK_MATCHES_TRUTH(c);
     // Killzone 2: the front faces are behind the eye (w < 0) and clipped, so the count pass
-    // passes no sample, the query reads 0 and the light is skipped (seed 000 §5, §9 item 5).
+    // passes no sample, the query reads 0 and the light is skipped (3dgep article §3.2.1.2, §3.3).
     const std::uint64_t counted = scene.runKillzone();
     MESSAGE("(d) Killzone 2: query " << counted << ", shaded " << scene.shadedCount());
     CHECK(counted == 0);

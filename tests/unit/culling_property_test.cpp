@@ -316,13 +316,13 @@ std::string describeCase(const RandomTile& t, const glm::vec3& a, float b, const
 
 }  // namespace
 
-TEST_CASE("sphere culling never drops an intersecting sphere, false-positive rates (3dgep, AMD, Intel seed 004 / 2010)") {
+TEST_CASE("sphere culling never drops an intersecting sphere, false-positive rates (3dgep, AMD, Intel note / 2010)") {
     const Projections p = makeProjections();
     REQUIRE(p.projAmd[0][0] == p.proj3dgep[0][0]);
     REQUIRE(p.projIntel[1][1] == p.proj3dgep[1][1]);
     Pcg32 rng(20240501u);
     Tally t3dgep{"sphere 3dgep SphereInsideFrustum"}, tAmd{"sphere AMD ForwardPlus11 TestFrustumSides + depth"};
-    Tally tIntel{"sphere Intel seed 004 planes"}, tIntel2010{"sphere Intel 2010 sample planes (2x2 tiles)"};
+    Tally tIntel{"sphere Intel tile-frustum note planes"}, tIntel2010{"sphere Intel 2010 sample planes (2x2 tiles)"};
     std::array<Tally, 4> bySize = sizeTallies("sphere 3dgep");
     constexpr int kCases = 40000;
     for (int i = 0; i < kCases; ++i) {
@@ -349,7 +349,7 @@ TEST_CASE("sphere culling never drops an intersecting sphere, false-positive rat
         const auto eqn = tileSidePlanesAmd(tile.g, kTile, kScreen, p.invAmd, AmdTileCorners::PaddedGrid);
         tAmd.add(sphereOverlapsTileAmd(posLh, sphere.r, eqn, tile.zn, tile.zf), truth, what);
 
-        const auto planes = tileFrustumPlanesIntel(tile.g, kTile, kScreen, p.projIntel, tile.zn, tile.zf, IntelSidePlanes::Seed004);
+        const auto planes = tileFrustumPlanesIntel(tile.g, kTile, kScreen, p.projIntel, tile.zn, tile.zf, IntelSidePlanes::TileBounds);
         tIntel.add(sphereInFrustumIntel(posLh, sphere.r, planes), truth, what);
         const auto planes2010 = tileFrustumPlanesIntel(tile.g, kTile, kScreen, p.projIntel, tile.zn, tile.zf, IntelSidePlanes::Sample2010);
         tIntel2010.add(sphereInFrustumIntel(posLh, sphere.r, planes2010), truth, what);
@@ -363,10 +363,10 @@ TEST_CASE("sphere culling never drops an intersecting sphere, false-positive rat
         CHECK(t->ambiguous < kCases / 200);
     }
     for (const Tally& t : bySize) MESSAGE(t.report());
-    // The 2010 planes bound 2x2 tiles: strictly more false positives than seed 004's.
+    // The 2010 planes bound 2x2 tiles: strictly more false positives than the note's.
     CHECK(tIntel2010.falsePositives > tIntel.falsePositives);
     // Each culler must cull. Measured shares of the truly-outside spheres kept (fixed seed, so
-    // these are exact for this sample): 3dgep, AMD and Intel seed 004 588 / 27527 = 2.14%, Intel
+    // these are exact for this sample): 3dgep, AMD and Intel note 588 / 27527 = 2.14%, Intel
     // 2010 4303 / 27527 = 15.6%. Bounds: measured + 10%. A culler that keeps everything scores 100%.
     CHECK(t3dgep.keptOutsideShare() <= 0.0236);
     CHECK(tAmd.keptOutsideShare() <= 0.0236);

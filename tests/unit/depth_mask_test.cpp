@@ -1,5 +1,5 @@
-// AMD depth-direction culling (math/depth_mask.h): hand-derived 2.5D cells and masks (seed 002
-// §10.8 worked numbers), the degenerate pitch-0 and NaN cases, the GPU Pro 4 tile mask from a
+// AMD depth-direction culling (math/depth_mask.h): hand-derived 2.5D cells and masks (GPU Pro 4
+// §5.6.1 as tessera reads it), the degenerate pitch-0 and NaN cases, the GPU Pro 4 tile mask from a
 // depth image, half-Z, and property tests against geometric truth: over random tiles and spheres,
 // a light whose depth extent contains a pixel of the tile is never rejected; the rejection rates
 // of 2.5D and half-Z against plain min/max culling are printed.
@@ -20,7 +20,7 @@
 
 using namespace tessera;
 
-TEST_CASE("2.5D cells: seed 002 §10.8 worked numbers (minZ 0, maxZ 32, pitch 1)") {
+TEST_CASE("2.5D cells: hand-derived numbers (minZ 0, maxZ 32, pitch 1)") {
     const float pitch = depthMaskPitch(0.0f, 32.0f);
     CHECK(pitch == 1.0f);                            // 32 / 32
     CHECK(depthMaskCell(5.5f, 0.0f, pitch) == 5u);   // (int)5.5 = 5

@@ -1,6 +1,6 @@
-// Light-volume meshes and transforms of the 3dgep deferred pass (reference-implementations.md
-// §1.6): the assimp NFF sphere (tess 4) and cone (256 segments), their inscribed / circumscribed
-// fit, the spot volume's placement, and the quaternion's antiparallel case.
+// Light-volume meshes and transforms of the 3dgep deferred pass (demo DeferredLightingPass.cpp):
+// the assimp NFF sphere (tess 4) and cone (256 segments), their inscribed / circumscribed fit,
+// the spot volume's placement, and the quaternion's antiparallel case.
 #include <doctest/doctest.h>
 
 #include <cmath>

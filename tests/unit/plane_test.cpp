@@ -1,5 +1,5 @@
-// Hand-derived cases for the 3dgep plane and frustum tests (math/plane.h, math/frustum.h; seed 000
-// §6): ComputePlane, point / sphere / cone against a plane, sphere / cone against a frustum with
+// Hand-derived cases for the 3dgep plane and frustum tests (math/plane.h, math/frustum.h;
+// 3dgep article §4): ComputePlane, point / sphere / cone against a plane, sphere / cone against a frustum with
 // its near and far range, and the concrete case in which the article's cone test (m not
 // normalized) culls a cone that crosses the plane while the corrected test keeps it.
 #include <doctest/doctest.h>
@@ -21,7 +21,7 @@ bool near3(const glm::vec3& a, const glm::vec3& b, float tol = kTol) {
 
 }  // namespace
 
-TEST_CASE("computePlane: N = normalize(cross(p1 - p0, p2 - p0)), d = dot(N, p0) (seed 000 §6)") {
+TEST_CASE("computePlane: N = normalize(cross(p1 - p0, p2 - p0)), d = dot(N, p0) (3dgep article §4.1)") {
     // p0 = 0, p1 = x, p2 = y: cross((1,0,0), (0,1,0)) = (0,0,1), |.| = 1; d = dot(N, 0) = 0.
     const Plane xy = computePlane({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
     CHECK(xy.N == glm::vec3(0, 0, 1));
@@ -112,7 +112,7 @@ TEST_CASE("faithful 3dgep cone test culls a cone whose base rim crosses the plan
     CHECK(coneInsideFrustumCorrected(cone, f, 100.0f, -100.0f));
 }
 
-TEST_CASE("sphereInsideFrustum: the z slab [zFar, zNear] then the four planes (seed 000 §6)") {
+TEST_CASE("sphereInsideFrustum: the z slab [zFar, zNear] then the four planes (3dgep article §4.4.1)") {
     // A box-like "frustum" |x| <= 1, |y| <= 1 (normals inward), zNear = -1, zFar = -10 (RH).
     Frustum f;
     f.planes[0] = Plane{glm::vec3(1, 0, 0), -1.0f};   // left:   x - (-1) >= 0
@@ -135,7 +135,7 @@ TEST_CASE("sphereInsideFrustum: the z slab [zFar, zNear] then the four planes (s
     CHECK(sphereInsideFrustum({{1.8f, 1.8f, -5}, 1.0f}, f, -1.0f, -10.0f));
 }
 
-TEST_CASE("coneInsideFrustum: near {(0,0,-1), -zNear} and far {(0,0,1), zFar} planes (seed 000 §6)") {
+TEST_CASE("coneInsideFrustum: near {(0,0,-1), -zNear} and far {(0,0,1), zFar} planes (3dgep article §4.4.2)") {
     const Plane nearP = nearPlane3dgep(-1.0f);
     const Plane farP = farPlane3dgep(-10.0f);
     CHECK(nearP.N == glm::vec3(0, 0, -1));

@@ -1,7 +1,7 @@
-// ScreenToView (seed 000 §5) against geometric truth: random view-space points projected with
-// a D3D projection and with the demo's GL-form projection (reference-implementations.md §1.5),
-// depth stored as D24 or D32_FLOAT, reconstructed through the float inverse projection; the
-// error is bounded analytically. Also the faithful pixel-corner sample point's half-pixel offset.
+// ScreenToView (3dgep article §3.3.3) against geometric truth: random view-space points projected
+// with a D3D projection and with the demo's GL-form projection (ERRATA #1), depth stored as D24
+// or D32_FLOAT, reconstructed through the float inverse projection; the error is bounded
+// analytically. Also the faithful pixel-corner sample point's half-pixel offset.
 #include <doctest/doctest.h>
 
 #include <cmath>

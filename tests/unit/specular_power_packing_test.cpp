@@ -1,4 +1,4 @@
-// The 3dgep G-buffer's specular-power packing (seed 000 §5): log2(p)/10.5 stored in an
+// The 3dgep G-buffer's specular-power packing (3dgep article §3.1.1.4): log2(p)/10.5 stored in an
 // R8G8B8A8_UNORM alpha, unpacked as exp2(a * 10.5). Checks the derived round-trip error bound
 // over the whole range and the edge cases p <= 1, 0, negative, NaN and saturation.
 #include <doctest/doctest.h>
@@ -101,7 +101,7 @@ TEST_CASE("specular power: p <= 1, 0, negative and NaN store code 0 and unpack t
         CHECK(roundTripSpecularPower(p) == 1.0f);
     }
     // The unpacked 1 fails the shaders' `SpecularPower > 1.0f` gate; such materials also get
-    // specular colour 0 in the G-buffer (seed 000 §10), so no specular either way. But powers in
+    // specular colour 0 in the G-buffer (demo PS_Geometry), so no specular either way. But powers in
     // (1, 2^(10.5/510)) = (1, 1.01437) pass the gate yet store code 0 and come back as 1.
     const float justAboveOne = 1.0143f;
     CHECK(justAboveOne > 1.0f);

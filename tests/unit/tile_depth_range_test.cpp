@@ -27,7 +27,7 @@ using test::inverseGlFormUnit;
 }  // namespace
 
 TEST_CASE("3dgep: asuint min/max over every pixel, then ScreenToView(0, 0, d, 1).z") {
-    // 4x4 screen, one 4x4 tile: depths 0.25 .. 1 (cleared pixels count: seed 000 §10 has no skip).
+    // 4x4 screen, one 4x4 tile: depths 0.25 .. 1 (cleared pixels count: the demo's CS_main has no skip).
     const std::vector<float> depth{0.5f, 0.5f, 1.0f, 1.0f,   //
                                    0.5f, 0.25f, 1.0f, 1.0f,  //
                                    0.75f, 0.5f, 0.5f, 1.0f,  //
@@ -63,7 +63,7 @@ TEST_CASE("3dgep edge tiles: loads past the screen return 0, so minDepth = 0 and
 
 namespace {
 
-// The 3dgep reduction as the kernel runs it (seed 000 §10 CS_main), through compute::dispatch.
+// The 3dgep reduction as the kernel runs it (demo ForwardPlusRendering.hlsl CS_main), through compute::dispatch.
 struct DepthBounds3dgepKernel {
     static constexpr glm::uvec3 groupSize{16, 16, 1};
     struct Shared {
@@ -120,7 +120,7 @@ TEST_CASE("the plain loop gives the bits of the dispatched 3dgep kernel (37x23 p
     }
 }
 
-TEST_CASE("AMD GPU Pro 4 (seed 002 §2.3): LH view z, depth 1 skipped, empty tile = (NaN, +0), edge load 0 = near") {
+TEST_CASE("AMD GPU Pro 4 (§5.3.1): LH view z, depth 1 skipped, empty tile = (NaN, +0), edge load 0 = near") {
     // LH D3D projection n = 1, f = 2: z_ndc = (2 z - 2) / z; its inverse has view.z = W and
     // view.w = -0.5 Z + W, so view z = 1 / (1 - 0.5 D): D = 0 -> 1 (near), 0.5 -> 4/3, 1 -> 2.
     glm::mat4 inv(0.0f);

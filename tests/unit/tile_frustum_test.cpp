@@ -1,7 +1,7 @@
 // Tile frustums built the three ways of math/tile_frustum.h: one hand-derived tile through all
-// three constructions, the 600x600 / 10-pixel-tile worked example of seed 004, agreement of the
-// three on every tile of a 1280x720 grid (after conversion to the common convention), and the two
-// source errata: Intel's 2010 planes span 2x2 tiles, AMD's padded-grid corners miss pixel rows.
+// three constructions, the tile-frustum note's 600x600 / 10-pixel-tile worked example, agreement
+// of the three on every tile of a 1280x720 grid (after conversion to the common convention), and
+// the two source errata: Intel's 2010 planes span 2x2 tiles, AMD's padded-grid corners miss pixel rows.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -87,7 +87,7 @@ TEST_CASE("one tile, three constructions, hand-derived (64x64 px, 16 px tiles, t
         CHECK(cols.c1 == glm::vec4(2, 0, 2, 0));
         CHECK(cols.c2 == glm::vec4(0, -2, 2, 0));
         const std::array<glm::vec4, 6> planes =
-            tileFrustumPlanesIntel({0, 0}, 16, {64, 64}, projection, 1.0f, 2.0f, IntelSidePlanes::Seed004);
+            tileFrustumPlanesIntel({0, 0}, 16, {64, 64}, projection, 1.0f, 2.0f, IntelSidePlanes::TileBounds);
         CHECK(near3(glm::vec3(planes[0]), glm::vec3(-kTwoBySqrt5, 0, -kOneBySqrt5), tol));
         CHECK(near3(glm::vec3(planes[1]), glm::vec3(kInvSqrt2, 0, kInvSqrt2), tol));
         CHECK(near3(glm::vec3(planes[2]), glm::vec3(0, kTwoBySqrt5, -kOneBySqrt5), tol));
@@ -104,9 +104,9 @@ TEST_CASE("one tile, three constructions, hand-derived (64x64 px, 16 px tiles, t
     }
 }
 
-TEST_CASE("seed 004 worked example: 600x600, COMPUTE_SHADER_TILE_GROUP_DIM 10, _11 = _22 = 1") {
+TEST_CASE("tile-frustum note worked example: 600x600, COMPUTE_SHADER_TILE_GROUP_DIM 10, _11 = _22 = 1") {
     // tileScale = 600 * rcp(20) = 30 (rcp(20) = 0.0500000007f, 600 * that rounds to 30.0f exactly);
-    // tileBias = 30 - g. Table of seed001_004.md B (raw, then normalized to 6 decimals).
+    // tileBias = 30 - g. Planes derived by hand from the note's code (raw, then normalized to 6 decimals).
     const glm::mat4 projection(1.0f);
     const glm::uvec2 fb(600, 600);
     struct Row {
@@ -137,8 +137,8 @@ TEST_CASE("seed 004 worked example: 600x600, COMPUTE_SHADER_TILE_GROUP_DIM 10, _
         const IntelTileColumns cols = intelTileColumns(row.g, 10, fb, projection);
         CHECK(cols.tileScale == glm::vec2(30.0f));
         CHECK(cols.tileBias == glm::vec2(30.0f) - glm::vec2(row.g));  // +30 (g = 0) ... -29 (g = 59)
-        const std::array<glm::vec4, 4> raw = intelSidePlanesRaw(cols, IntelSidePlanes::Seed004);
-        const std::array<glm::vec4, 6> planes = tileFrustumPlanesIntel(row.g, 10, fb, projection, 1.0f, 100.0f, IntelSidePlanes::Seed004);
+        const std::array<glm::vec4, 4> raw = intelSidePlanesRaw(cols, IntelSidePlanes::TileBounds);
+        const std::array<glm::vec4, 6> planes = tileFrustumPlanesIntel(row.g, 10, fb, projection, 1.0f, 100.0f, IntelSidePlanes::TileBounds);
         for (std::size_t i = 0; i < 4; ++i) {
             CAPTURE(i);
             CHECK(raw[i] == row.raw[i]);  // small integers: exact
@@ -151,31 +151,31 @@ TEST_CASE("seed 004 worked example: 600x600, COMPUTE_SHADER_TILE_GROUP_DIM 10, _
     // near plane gives 10 - 5 = 5 and the far plane -10 + 20 = 10: kept. With maxTileZ = 8.5 the
     // far plane gives -1.5 < -1: culled; with maxTileZ = 9 it gives -1, not < -1: kept.
     const glm::vec3 light(0, 0, 10);
-    const auto planes = tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 20.0f, IntelSidePlanes::Seed004);
+    const auto planes = tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 20.0f, IntelSidePlanes::TileBounds);
     const auto d = [&](std::size_t i) { return glm::dot(planes[i], glm::vec4(light, 1.0f)); };
     CHECK(d(0) == 0.0f);
     CHECK(d(1) == doctest::Approx(0.33315).epsilon(1e-4));
     CHECK(d(2) == 0.0f);
     CHECK(d(3) == doctest::Approx(0.33315).epsilon(1e-4));
     CHECK(sphereInFrustumIntel(light, 1.0f, planes));
-    CHECK_FALSE(sphereInFrustumIntel(light, 1.0f, tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 8.5f, IntelSidePlanes::Seed004)));
-    CHECK(sphereInFrustumIntel(light, 1.0f, tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 9.0f, IntelSidePlanes::Seed004)));
+    CHECK_FALSE(sphereInFrustumIntel(light, 1.0f, tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 8.5f, IntelSidePlanes::TileBounds)));
+    CHECK(sphereInFrustumIntel(light, 1.0f, tileFrustumPlanesIntel({29, 29}, 10, fb, projection, 5.0f, 9.0f, IntelSidePlanes::TileBounds)));
 }
 
-TEST_CASE("Intel 2010 sample planes (c4 +- c1, c4 +- c2) span 2x2 tiles, while seed 004's (c1, c2) bound the tile") {
+TEST_CASE("Intel 2010 sample planes (c4 +- c1, c4 +- c2) span 2x2 tiles, while the note's (c1, c2) bound the tile") {
     // 600x600, 10 px tiles, _11 = _22 = 1, tile (29, 29) = px [290, 300] x [290, 300]. In tile
     // units tx = (x_ndc + 1) * 30 = px / 10: c4 - c1 >= 0 <=> tx <= 30, c1 >= 0 <=> tx >= 29, but
     // c4 + c1 >= 0 <=> tx >= 28. Test points on the rays through pixel centres at view z = 10.
     const glm::mat4 projection(1.0f);
-    const auto seed004 = tileFrustumPlanesIntel({29, 29}, 10, {600, 600}, projection, 1.0f, 100.0f, IntelSidePlanes::Seed004);
+    const auto note = tileFrustumPlanesIntel({29, 29}, 10, {600, 600}, projection, 1.0f, 100.0f, IntelSidePlanes::TileBounds);
     const auto sample = tileFrustumPlanesIntel({29, 29}, 10, {600, 600}, projection, 1.0f, 100.0f, IntelSidePlanes::Sample2010);
     const auto rayPoint = [](float pxX, float pxY) {  // LH view point on the pixel's ray at z = 10
         const float xNdc = pxX / 600.0f * 2.0f - 1.0f, yNdc = 1.0f - pxY / 600.0f * 2.0f;
         return glm::vec3(xNdc * 10.0f, yNdc * 10.0f, 10.0f);
     };
-    CHECK(sphereInFrustumIntel(rayPoint(295.5f, 295.5f), 0.0f, seed004));  // the tile's own pixel
+    CHECK(sphereInFrustumIntel(rayPoint(295.5f, 295.5f), 0.0f, note));     // the tile's own pixel
     CHECK(sphereInFrustumIntel(rayPoint(295.5f, 295.5f), 0.0f, sample));
-    CHECK_FALSE(sphereInFrustumIntel(rayPoint(285.5f, 295.5f), 0.0f, seed004));  // tile (28, 29)
+    CHECK_FALSE(sphereInFrustumIntel(rayPoint(285.5f, 295.5f), 0.0f, note));     // tile (28, 29)
     CHECK(sphereInFrustumIntel(rayPoint(285.5f, 295.5f), 0.0f, sample));         // ... kept by 2010
     CHECK(sphereInFrustumIntel(rayPoint(285.5f, 285.5f), 0.0f, sample));         // tile (28, 28)
     CHECK_FALSE(sphereInFrustumIntel(rayPoint(279.5f, 295.5f), 0.0f, sample));   // tile (27, 29): out
@@ -203,7 +203,7 @@ TEST_CASE("the three constructions agree on every tile of 1280x720 (16 px tiles,
     const glm::mat4 inv3dgep = glm::inverse(proj3dgep), invAmd = glm::inverse(projAmd);
     const glm::uvec2 screen(1280, 720);
     const glm::uvec2 tiles = tileCount(screen, 16);
-    CHECK(tiles == glm::uvec2(80, 45));  // seed 000 §6: 3,600 frustums
+    CHECK(tiles == glm::uvec2(80, 45));  // 3dgep article §4.2: 3,600 frustums
 
     float maxAmd = 0.0f, maxIntel = 0.0f, maxD = 0.0f;
     for (std::uint32_t ty = 0; ty < tiles.y; ++ty) {
@@ -211,7 +211,7 @@ TEST_CASE("the three constructions agree on every tile of 1280x720 (16 px tiles,
             const TileSidePlanes a = commonSidePlanes(gridFrustum3dgep({tx, ty}, 16, glm::vec2(screen), inv3dgep));
             const TileSidePlanes b = commonSidePlanesFromAmd(tileSidePlanesAmd({tx, ty}, 16, screen, invAmd, AmdTileCorners::PaddedGrid));
             const TileSidePlanes c = commonSidePlanesFromIntel(
-                tileFrustumPlanesIntel({tx, ty}, 16, screen, projIntel, 0.05f, 300.0f, IntelSidePlanes::Seed004));
+                tileFrustumPlanesIntel({tx, ty}, 16, screen, projIntel, 0.05f, 300.0f, IntelSidePlanes::TileBounds));
             for (std::size_t i = 0; i < 4; ++i) {
                 const glm::vec3 da = glm::abs(a[i].N - b[i].N), dc = glm::abs(a[i].N - c[i].N);
                 maxAmd = std::max({maxAmd, da.x, da.y, da.z});

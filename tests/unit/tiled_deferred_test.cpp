@@ -1,4 +1,4 @@
-// The `tiled-deferred` technique (Intel 2010 tiled deferred, seed 004) on a small opaque scene
+// The `tiled-deferred` technique (Intel 2010 sample) on a small opaque scene
 // built in memory: Intel's shading and G-buffer math by hand, the 3dgep comparison mode against
 // forward and deferred bit for bit, and each option's faithful-vs-corrected difference (tile
 // planes, normal storage, list capacity, tile size).
@@ -162,9 +162,9 @@ TEST_CASE("tiled-deferred: 3dgep shading with the demo G-buffer equals deferred'
     CHECK(sameBytes(deferred.back(), tiled.back()));
 }
 
-TEST_CASE("tiled-deferred: Intel 2010 planes keep a superset of seed 004's lists, the image is the same") {
+TEST_CASE("tiled-deferred: Intel 2010 planes keep a superset of the tile-frustum note's lists, the image is the same") {
     // c4 + c1 >= 0 admits tx >= g - 1 where c1 >= 0 admits tx >= g (tile_frustum.h): the 2010
-    // frustum contains seed 004's, so every list is a superset; the extra lights are out of range
+    // frustum contains the note's, so every list is a superset; the extra lights are out of range
     // of every pixel of the tile and AccumulateBRDF adds nothing for them.
     std::vector<Light> lights = defaultLights();
     for (int i = 0; i < 12; ++i)  // small lights spread over the floor: per-tile lists differ
@@ -173,7 +173,7 @@ TEST_CASE("tiled-deferred: Intel 2010 planes keep a superset of seed 004's lists
     const TestScene t = makeScene(lights);
     Rendered sample, seed;
     render(t, "tiled-deferred", nlohmann::json::object(), sample);
-    render(t, "tiled-deferred", {{"tilePlanes", "seed004"}}, seed);
+    render(t, "tiled-deferred", {{"tilePlanes", "tile"}}, seed);
     const Surface& grid = sample.registry.get("tiles.grid");
     int larger = 0, subsetViolations = 0;
     std::uint64_t sumSample = 0, sumSeed = 0;
@@ -185,7 +185,7 @@ TEST_CASE("tiled-deferred: Intel 2010 planes keep a superset of seed 004's lists
             sumSample += a.size();
             sumSeed += b.size();
         }
-    MESSAGE("lights per tile: sample2010 " << double(sumSample) / double(grid.width() * grid.height()) << ", seed004 "
+    MESSAGE("lights per tile: sample2010 " << double(sumSample) / double(grid.width() * grid.height()) << ", tile "
                                           << double(sumSeed) / double(grid.width() * grid.height()) << "; " << larger
                                           << " tiles have more with sample2010");
     CHECK(subsetViolations == 0);
@@ -260,7 +260,7 @@ TEST_CASE("tiled-deferred: option values are InputErrors naming the key path, an
     CHECK(errorOf({{"tileListCapacity", 0}}).find("/options/tileListCapacity") != std::string::npos);
     CHECK(errorOf({{"projection", "demo-gl"}}).find("/options/projection") != std::string::npos);
     CHECK(errorOf({{"lightVolumes", "inscribed"}}).find("/options/lightVolumes") != std::string::npos);
-    CHECK(errorOf({{"tileSize", 32}, {"tilePlanes", "seed004"}, {"normals", "float"}}).empty());
+    CHECK(errorOf({{"tileSize", 32}, {"tilePlanes", "tile"}, {"normals", "float"}}).empty());
     for (const Precision p : {Precision::Reference, Precision::Fast}) {
         Rendered r;
         render(makeScene(defaultLights()), "tiled-deferred", nlohmann::json::object(), r, p);

@@ -25,7 +25,7 @@
 //    store to one address by several threads of a phase leaves the highest groupIndex's value.
 // 2. g.forEachStrided(n, f) runs the HLSL loop `for (i = groupIndex; i < n; i += threads)` in
 //    lockstep, i.e. f(thread i % threads, i) for i = 0, 1, ..., n-1 in ascending i. Appending
-//    inside it gives "ascending light index inside a tile" (SPEC.md, Conventions: Compute).
+//    inside it gives "ascending light index inside a tile", tessera's fixed order for GPU atomics.
 // 3. GroupOrder::Serial (the default): groups run one at a time in row-major order of SV_GroupID
 //    (x fastest, then y, then z) on the calling thread. Global atomics, and the originals they
 //    return, happen in that order: an append to a global list lays tiles out in row-major order.

@@ -1,7 +1,7 @@
-// Depth-direction culling of AMD Forward+: GPU Pro 4's 2.5D culling (seed 002 §6: a 32-cell
+// Depth-direction culling of AMD Forward+: GPU Pro 4's 2.5D culling (ch. 5 §5.6.1: a 32-cell
 // occupancy mask per tile built from its pixels' view z, a light's depth extent as a mask, keep
 // iff the AND is non-zero) and TiledLighting11's half-Z split (two depth ranges per tile split at
-// the midpoint, reference-implementations.md §2.2). Callers: the forward-plus-amd culling kernel
+// the midpoint, TiledLighting11 DoLightCulling). Callers: the forward-plus-amd culling kernel
 // (techniques/amd_light_culling.h) and tests/unit/depth_mask_test.cpp.
 #pragma once
 
@@ -15,10 +15,10 @@
 
 namespace tessera {
 
-// ===== 2.5D culling (seed 002 §6) ================================================================
+// ===== 2.5D culling (GPU Pro 4 §5.6.1) ===========================================================
 // All depths are AMD's LEFT-handed view z (> 0 in front of the eye), as tile_depth_range.h's AMD
-// variants produce them. seed 002 gives the algorithm but not the arithmetic; the forms below are
-// the digest's [INFERRED exact forms] (seed002.md §6), written as HLSL would evaluate them:
+// variants produce them. The chapter gives the algorithm but not the arithmetic; the forms below are
+// tessera's reading of its text (quoted in parentheses), written as HLSL would evaluate them:
 //   pitch   = (maxZ - minZ) / 32                      ("the pitch of a cell is calculated from the extent")
 //   cell(z) = clamp((int)((z - minZ) / pitch), 0, 31)  (HLSL float -> int: NaN -> 0, out of range saturates)
 //   light   = (0xffffffff << cell(c.z - r)) & (0xffffffff >> (31 - cell(c.z + r)))
@@ -59,7 +59,7 @@ inline std::uint32_t depthMaskOfRange(float zLoView, float zHiView, float minZ, 
     return (0xFFFFFFFFu << cellLo) & (0xFFFFFFFFu >> (31u - cellHi));
 }
 
-// A sphere's depth extent [c.z - r, c.z + r] as a mask (seed 002: "the minimum and maximum depth
+// A sphere's depth extent [c.z - r, c.z + r] as a mask (GPU Pro 4 §5.6.1: "the minimum and maximum depth
 // values of the geometry are calculated and converted to cell indices").
 inline std::uint32_t lightDepthMask(float centerZView, float radius, float minZ, float pitch) {
     return depthMaskOfRange(centerZView - radius, centerZView + radius, minZ, pitch);
@@ -76,7 +76,7 @@ inline std::uint32_t tileDepthMaskFromViewZ(std::span<const float> viewZs, float
     return mask;
 }
 
-// The tile mask exactly as the GPU Pro 4 kernel builds it (seed 002 §2.3 + §6), for the pixels
+// The tile mask exactly as the GPU Pro 4 kernel builds it (§5.3.1 + §5.6.1), for the pixels
 // that entered tileViewZBitsAmdGpuPro4's min/max: depth != 1.0 (cleared pixels set no bit); a
 // thread past the screen edge loads depth 0 and sets the near plane's cell, as it entered minZ.
 // minZ / maxZ: asfloat of that function's bits. An all-cleared tile gives mask 0.

@@ -1,4 +1,4 @@
-// Deterministic transcendental functions (SPEC.md "Floating point": results that reach an image
+// Deterministic transcendental functions (tessera's floating-point rule: results that reach an image
 // must not depend on the libm or compiler). Built only from IEEE +, -, *, /, bit casts and fixed
 // polynomials evaluated in double in a fixed order (the project compiles with -ffp-contract=off).
 // Float versions are within 1 ulp of the correctly rounded result (tests/unit/det_math_test.cpp).

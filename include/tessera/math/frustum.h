@@ -1,5 +1,5 @@
 // The 3dgep tile frustum (four side planes) and its sphere and cone tests with a near/far depth
-// range (seed 000 §6, CommonInclude.hlsl; reference-implementations.md §1.7), binary32 in the
+// range (3dgep article §4.1, §4.4; demo CommonInclude.hlsl), binary32 in the
 // HLSL order. View space is right-handed, the camera looks down -z, plane normals point INTO the
 // frustum, so "inside a plane" (negative half-space) means outside the frustum.
 #pragma once
@@ -11,14 +11,14 @@
 
 namespace tessera {
 
-// seed 000 §6 Frustum: planes[0..3] = left, right, top, bottom (CS_ComputeFrustums' order).
+// 3dgep article §4.1 Frustum: planes[0..3] = left, right, top, bottom (CS_ComputeFrustums' order).
 struct Frustum {
     std::array<Plane, 4> planes{};
 };
 
-// seed 000 §6 SphereInsideFrustum: false if `c.z - r > zNear || c.z + r < zFar`, else false if
+// 3dgep article §4.4.1 SphereInsideFrustum: false if `c.z - r > zNear || c.z + r < zFar`, else false if
 // SphereInsidePlane for any of the 4 planes, else true. "Inside" = intersecting or contained.
-// zNear > zFar are view z values (negative in front of the camera; right-handed, seed 000 §9.11:
+// zNear > zFar are view z values (negative in front of the camera; right-handed, article §4.4.1:
 // swap them for a left-handed system). The kernel passes (nearClipVS, maxDepthVS) for the
 // transparent list and the opaque list additionally requires !SphereInsidePlane(minPlane).
 inline bool sphereInsideFrustum(const Sphere& sphere, const Frustum& frustum, float zNear, float zFar) {
@@ -30,14 +30,14 @@ inline bool sphereInsideFrustum(const Sphere& sphere, const Frustum& frustum, fl
     return result;
 }
 
-// seed 000 §6: the near and far planes ConeInsideFrustum builds, normals pointing OUT of the
+// 3dgep article §4.4.2: the near and far planes ConeInsideFrustum builds, normals pointing OUT of the
 // depth range: nearPlane = {(0,0,-1), -zNear} (inside it: z > zNear), farPlane = {(0,0,1), zFar}
 // (inside it: z < zFar). nearPlane3dgep(minDepthVS) is also CS_main's opaque-list
-// `minPlane = { float3(0,0,-1), -minDepthVS }` (seed 000 §10).
+// `minPlane = { float3(0,0,-1), -minDepthVS }` (demo ForwardPlusRendering.hlsl).
 inline Plane nearPlane3dgep(float zNear) { return Plane{glm::vec3(0.0f, 0.0f, -1.0f), -zNear}; }
 inline Plane farPlane3dgep(float zFar) { return Plane{glm::vec3(0.0f, 0.0f, 1.0f), zFar}; }
 
-// seed 000 §6 ConeInsideFrustum, FAITHFUL: false if ConeInsidePlane(near) || ConeInsidePlane(far),
+// 3dgep article §4.4.2 ConeInsideFrustum, FAITHFUL: false if ConeInsidePlane(near) || ConeInsidePlane(far),
 // else false if ConeInsidePlane for any of the 4 planes. Inherits coneInsidePlane's erratum (m not
 // normalized): it can report "outside" for a cone that intersects the frustum.
 inline bool coneInsideFrustum(const Cone& cone, const Frustum& frustum, float zNear, float zFar) {

@@ -1,5 +1,5 @@
 // Planes and the point / sphere / cone against plane tests of the 3dgep Forward+ light culling
-// (seed 000 §6, the demo's CommonInclude.hlsl; reference-implementations.md §1.7), binary32 with
+// (3dgep article §4.1, §4.4; the demo's CommonInclude.hlsl), binary32 with
 // the HLSL operation order, plus the corrected cone test (the article's m is not normalized).
 // Callers: frustum.h, tile_frustum.h, the Forward+ culling kernels and their tests.
 #pragma once
@@ -10,7 +10,7 @@
 
 namespace tessera {
 
-// ----- Structs of CommonInclude.hlsl (seed 000 §2 / §6, field order as there) --------------------
+// ----- Structs of CommonInclude.hlsl (3dgep article §4.1, §4.4, field order as there) ------------
 // Plane `dot(N, X) - d = 0` (the article: "ax + by + cz - d = 0"), N unit when made by
 // computePlane. Which side is "inside" is the caller's business; the tests below call the
 // NEGATIVE half-space `dot(N, X) - d < 0` "inside the plane".
@@ -27,7 +27,7 @@ struct Sphere {
 
 // Cone (a spot light): tip T, height h, unit axis d (from the tip to the base), base radius r.
 // The 3dgep culling kernel fills it as { PositionVS, Range, DirectionVS, tan(radians(angle)) *
-// Range } (seed 000 §10 CS_main).
+// Range } (3dgep demo ForwardPlusRendering.hlsl CS_main).
 struct Cone {
     glm::vec3 T{0.0f};
     float h = 0.0f;
@@ -58,7 +58,7 @@ inline glm::vec3 normalize(const glm::vec3& v) {
 // Signed distance `dot(N, p) - d` (view units when N is unit). Every test below compares it.
 inline float signedDistance(const Plane& plane, const glm::vec3& p) { return cullmath::dot(plane.N, p) - plane.d; }
 
-// seed 000 §6 ComputePlane (3dgep): v0 = p1 - p0; v2 = p2 - p0; N = normalize(cross(v0, v2));
+// 3dgep article §4.1 ComputePlane: v0 = p1 - p0; v2 = p2 - p0; N = normalize(cross(v0, v2));
 // d = dot(N, p0). With p0, p1, p2 counter-clockwise as seen from the side N points to (right-
 // handed cross product).
 inline Plane computePlane(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
@@ -70,17 +70,17 @@ inline Plane computePlane(const glm::vec3& p0, const glm::vec3& p1, const glm::v
     return plane;
 }
 
-// seed 000 §6 PointInsidePlane: `dot(plane.N, p) - plane.d < 0` (strictly in the negative
+// 3dgep article §4.4.2 PointInsidePlane: `dot(plane.N, p) - plane.d < 0` (strictly in the negative
 // half-space).
 inline bool pointInsidePlane(const glm::vec3& p, const Plane& plane) { return signedDistance(plane, p) < 0.0f; }
 
-// seed 000 §6 SphereInsidePlane (Ericson): `dot(plane.N, sphere.c) - plane.d < -sphere.r`, the
+// 3dgep article §4.4.1 SphereInsidePlane (Ericson): `dot(plane.N, sphere.c) - plane.d < -sphere.r`, the
 // whole sphere strictly in the negative half-space. Exact for unit N (up to rounding).
 inline bool sphereInsidePlane(const Sphere& sphere, const Plane& plane) {
     return signedDistance(plane, sphere.c) < -sphere.r;
 }
 
-// seed 000 §6 ConeInsidePlane, FAITHFUL (article and demo): m = cross(cross(N, d), d);
+// 3dgep article §4.4.2 ConeInsidePlane, FAITHFUL (article and demo): m = cross(cross(N, d), d);
 // Q = T + d * h - m * r; inside iff PointInsidePlane(T) && PointInsidePlane(Q).
 // ERRATUM: for unit N and d, cross(cross(N, d), d) = (N.d) d - N has length sin(theta) (theta the
 // angle between N and d), not 1, so Q lies only r * sin(theta) from the base centre instead of r:

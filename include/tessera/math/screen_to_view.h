@@ -1,5 +1,5 @@
 // View-space position from a window position and a depth-buffer value, as the 3dgep deferred
-// lighting pass reconstructs it (seed 000 §5 ClipToView / ScreenToView), plus the two pixel
+// lighting pass reconstructs it (3dgep article §3.3.3 ClipToView / ScreenToView), plus the two pixel
 // sample points: the demo's integer pixel corner (faithful) and the pixel centre (corrected).
 // Binary32, fixed operation order; callers: the deferred lighting PS, Forward+ depth bounds.
 #pragma once
@@ -10,24 +10,24 @@
 
 namespace tessera {
 
-// Where the deferred lighting PS evaluates a pixel's position (seed 000 §9 item 15).
+// Where the deferred lighting PS evaluates a pixel's position (3dgep article §3.3.3, PS_DeferredLighting).
 enum class PixelSamplePoint : std::uint8_t {
     Corner,  // faithful: `int2 texCoord = IN.position.xy` truncates SV_Position's +0.5 centre
     Centre,  // corrected: the pixel centre (x + 0.5, y + 0.5), where the G-buffer was sampled
 };
 
-// HLSL `mul(InverseProjection, clip)` then `view / view.w` (seed 000 §5 ClipToView). The product
+// HLSL `mul(InverseProjection, clip)` then `view / view.w` (3dgep article §3.3.3 ClipToView). The product
 // is evaluated row by row as dp4 in x, y, z, w order (glm column-major: m[col][row]).
 glm::vec4 clipToView(const glm::vec4& posClip, const glm::mat4& inverseProjection);
 
-// seed 000 §5 ScreenToView: `texCoord = screen.xy / ScreenDimensions; clip =
+// 3dgep article §3.3.3 ScreenToView: `texCoord = screen.xy / ScreenDimensions; clip =
 // float4(float2(texCoord.x, 1 - texCoord.y) * 2 - 1, screen.z, screen.w)`, then ClipToView.
 // posScreen: x, y in window px (origin top-left, y down), z the depth-buffer value, w = 1.
 // screenDimensions: the viewport's width and height in px.
 glm::vec4 screenToView(const glm::vec4& posScreen, const glm::vec2& screenDimensions,
                        const glm::mat4& inverseProjection);
 
-// `int2 texCoord = IN.position.xy` (seed 000 §5 PS_DeferredLighting): HLSL float -> int
+// `int2 texCoord = IN.position.xy` (3dgep article §3.3.3, PS_DeferredLighting): HLSL float -> int
 // truncates toward zero, so SV_Position (x + 0.5, y + 0.5) becomes the integer corner (x, y).
 glm::ivec2 pixelFromSvPosition(const glm::vec2& posWindow);
 

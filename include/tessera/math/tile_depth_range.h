@@ -1,5 +1,5 @@
 // The per-tile depth range of the tiled culling kernels, computed from a depth buffer exactly as
-// each kernel does it: 3dgep (seed 000 §10), AMD (seed 002 §2.3 and ForwardPlus11) and Intel
+// each kernel does it: 3dgep (demo CS_main), AMD (GPU Pro 4 §5.3.1 and ForwardPlus11) and Intel
 // (2010 sample): uint atomic min/max over float bits, each kernel's value, skip rule and initial
 // values, and the D3D11 rule that an out-of-range Load returns 0 for threads past the screen edge.
 #pragma once
@@ -61,11 +61,11 @@ TileDepthBits reduce(const DepthImageView& image, glm::uvec2 groupId, std::uint3
 
 }  // namespace tiledepth_detail
 
-// ----- 3dgep (seed 000 §10 CS_main; reference-implementations.md §1.7) --------------------------
+// ----- 3dgep (demo ForwardPlusRendering.hlsl CS_main) -------------------------------------------
 // uDepth = asuint(DepthTextureVS.Load(int3(texCoord, 0)).r) for EVERY thread (cleared 1.0 pixels
 // included); uMinDepth = 0xffffffff, uMaxDepth = 0; InterlockedMin / InterlockedMax.
 // Edge tiles: threads past the screen load 0, so the tile's minimum depth becomes 0 and
-// minDepthVS = nearClipVS (seed 000 §10 [analysis]): the opaque list of a partial tile gets no
+// minDepthVS = nearClipVS (the demo's CS_main, ERRATA #14): the opaque list of a partial tile gets no
 // near-side culling at all.
 inline TileDepthBits tileDepthBits3dgep(const DepthImageView& image, glm::uvec2 groupId, std::uint32_t blockSizePx) {
     return tiledepth_detail::reduce(image, groupId, blockSizePx, 0xFFFFFFFFu, 0u, [](float depth, float& value) {
@@ -95,13 +95,13 @@ inline TileDepthRange3dgep tileDepthRange3dgep(const DepthImageView& image, glm:
     return range;
 }
 
-// ----- AMD, GPU Pro 4 chapter (seed 002 §2.3) ---------------------------------------------------
+// ----- AMD, GPU Pro 4 chapter (ch. 5 §5.3.1) ----------------------------------------------------
 // viewPos = projToView(x, y, depth); z = asuint(viewPos.z); if (depth != 1.f) { AtomMax; AtomMin }
 // with ldsZMax = 0, ldsZMin = 0xffffffff: LEFT-handed view z (> 0), cleared 1.0 pixels skipped.
 // projToView is not given; its z is taken as clipToView(float4(0, 0, depth, 1), invProj).z (for
 // a perspective inverse the z does not depend on x, y). Edge tiles: an out-of-range load gives
 // depth 0 (!= 1), the near plane's view z, which enters the MINIMUM. An all-cleared tile keeps
-// the initial values: maxZ = +0.0, minZ = asfloat(0xffffffff), a NaN (seed 002 §2.3 [NOT IN DOC]).
+// the initial values: maxZ = +0.0, minZ = asfloat(0xffffffff), a NaN (GPU Pro 4 §5.3.1 leaves this open).
 inline TileDepthBits tileViewZBitsAmdGpuPro4(const DepthImageView& image, glm::uvec2 groupId, std::uint32_t tileSizePx,
                                               const glm::mat4& inverseProjection) {
     return tiledepth_detail::reduce(image, groupId, tileSizePx, 0xFFFFFFFFu, 0u, [&](float depth, float& value) {
@@ -110,7 +110,7 @@ inline TileDepthBits tileViewZBitsAmdGpuPro4(const DepthImageView& image, glm::u
     });
 }
 
-// ----- AMD ForwardPlus11 (reference-implementations.md §2.1, CalculateMinMaxDepthInLds) ---------
+// ----- AMD ForwardPlus11 (CalculateMinMaxDepthInLds) --------------------------------------------
 // Reversed depth (cleared to 0, near = 1): viewPosZ = 1.f / (depth * g_mProjectionInv._34 +
 // g_mProjectionInv._44) with _34 = m[2][3], _44 = m[3][3] of the glm inverse; if (depth != 0.f)
 // InterlockedMax / InterlockedMin; ldsZMin = 0x7f7fffff (FLT_MAX), ldsZMax = 0.
@@ -126,7 +126,7 @@ inline TileDepthBits tileViewZBitsAmdForwardPlus11(const DepthImageView& image, 
     });
 }
 
-// ----- Intel 2010 tiled deferred (reference-implementations.md §3, ComputeShaderTile.hlsl) -----
+// ----- Intel 2010 tiled deferred (Intel 2010 sample, ComputeShaderTile.hlsl) -------------------
 // Per pixel viewSpaceZ = mCameraProj._43 / (zBuffer - mCameraProj._33) (GBuffer.hlsl, the 2010
 // lines; _43 = m[3][2], _33 = m[2][2] of the glm projection), valid iff
 // `viewSpaceZ >= mCameraNearFar.x && viewSpaceZ < mCameraNearFar.y`; only valid samples reach

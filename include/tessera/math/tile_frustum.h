@@ -1,7 +1,7 @@
-// Tile frustums three ways, each exactly as its source builds it: 3dgep grid frustums (seed 000
-// §6), AMD Forward+ side planes (seed 002 §2.2, ForwardPlus11 CullLightsCS) and Intel's
-// projection-derived planes (seed 004, Intel's 2010 ComputeShaderTile.hlsl), with their sphere
-// tests and functions that express all three in one common convention for comparison.
+// Tile frustums three ways, each exactly as its source builds it: 3dgep grid frustums (article
+// §4.2), AMD Forward+ side planes (GPU Pro 4 §5.3.1, ForwardPlus11 CullLightsCS) and Intel's
+// projection-derived planes (Intel 2010 sample ComputeShaderTile.hlsl; tile-frustum note), with
+// their sphere tests and functions that express all three in one common convention for comparison.
 #pragma once
 
 #include <array>
@@ -17,7 +17,7 @@
 
 namespace tessera {
 
-// Tiles covering a screen: ceil(screen / tile) per axis (seed 000 §6: 1280x720, 16 px -> 80x45).
+// Tiles covering a screen: ceil(screen / tile) per axis (3dgep article §4.2: 1280x720, 16 px -> 80x45).
 inline glm::uvec2 tileCount(glm::uvec2 screenPx, std::uint32_t tileSizePx) {
     return (screenPx + glm::uvec2(tileSizePx - 1u)) / tileSizePx;
 }
@@ -26,8 +26,8 @@ inline glm::uvec2 tileCount(glm::uvec2 screenPx, std::uint32_t tileSizePx) {
 // Convention: right-handed view space (x right, y up, camera looks down -z); planes left, right,
 // top, bottom with unit normals pointing INTO the tile; all pass through the eye (d = +-0).
 //
-// seed 000 §6 CS_ComputeFrustums for the thread with SV_DispatchThreadID.xy = tileId (tile column,
-// tile row counted from the TOP of the screen), reference-implementations.md §1.7:
+// 3dgep article §4.2 CS_ComputeFrustums for the thread with SV_DispatchThreadID.xy = tileId (tile column,
+// tile row counted from the TOP of the screen), as in the demo's ForwardPlusRendering.hlsl:
 //   screenSpace[0] = float4(tileId * BLOCK_SIZE, -1, 1)           top-left
 //   screenSpace[1] = float4((tileId.x + 1, tileId.y) * BLOCK_SIZE, -1, 1)   top-right
 //   screenSpace[2] = float4((tileId.x, tileId.y + 1) * BLOCK_SIZE, -1, 1)   bottom-left
@@ -36,7 +36,7 @@ inline glm::uvec2 tileCount(glm::uvec2 screenPx, std::uint32_t tileSizePx) {
 //   planes: Left (eye, v2, v0), Right (eye, v1, v3), Top (eye, v0, v1), Bottom (eye, v3, v2)
 // The uint products tileId * BLOCK_SIZE are converted to float exactly (< 2^24). z = -1 is the
 // article's "far plane" for a right-handed system; under the demo's GL-form projection it is the
-// near plane (reference-implementations.md §1.3 (4)); only the ray direction matters.
+// near plane (view z = -n, ERRATA #1); only the ray direction matters.
 inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
                                 const glm::mat4& inverseProjection) {
     const auto corner = [&](std::uint32_t tx, std::uint32_t ty) {
@@ -59,9 +59,9 @@ inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, co
 // normals through the origin with the positive half-space OUTSIDE the tile; order frustumEqn0..3
 // = top, right, bottom, left (corners clockwise from the top-left).
 //
-// seed 002 §2.2 (GPU Pro 4): v[i] = projToView(corner i, depth 1); frustum[i] =
-// createEquation(o, v[i], v[(i+1)&3]). The public ForwardPlus11 sample (reference-
-// implementations.md §2.1, CullLightsCS) spells it out:
+// GPU Pro 4 ch. 5 §5.3.1: v[i] = projToView(corner i, depth 1); frustum[i] =
+// createEquation(o, v[i], v[(i+1)&3]). The public ForwardPlus11 sample
+// (ForwardPlus11Tiling.hlsl, CullLightsCS) spells it out:
 //   frustumK = ConvertProjToView(float4(px / (float)Wdiv * 2 - 1, (Hdiv - py) / (float)Hdiv * 2 - 1, 1, 1))
 //   CreatePlaneEquation(b, c) = normalize(cross(b, c));  eqn0 = (f0, f1) ... eqn3 = (f3, f0)
 // with Wdiv = TILE_RES * GetNumTilesX(), GetNumTilesX() = (uint)((W + TILE_RES - 1) / (float)TILE_RES),
@@ -71,7 +71,7 @@ enum class AmdTileCorners : std::uint8_t {
                  // screen is not a multiple of TILE_RES (1080 / 16 = 67.5): tile frustums drift up
                  // to half a tile from their pixels, and lights touching only the uncovered rows are
                  // culled (test "AMD ForwardPlus11 padded-grid corners miss pixels at 1920x1080").
-    Screen,      // corrected, and the reading of seed 002's projToView(pixel x, pixel y, depth):
+    Screen,      // corrected, and the reading of GPU Pro 4's projToView(pixel x, pixel y, depth):
                  // NDC over the screen's W x H px.
 };
 
@@ -117,15 +117,15 @@ inline bool sphereOverlapsTileAmd(const glm::vec3& posView, float radius, const 
 // (z <= maxTileZ). Projection: glm (column-vector) matrix, HLSL mCameraProj._rc = m[r-1][c-1]
 // (_11 = m[0][0], _22 = m[1][1]); off-centre terms (_31, _32) are ignored, as Intel does.
 //
-// seed 004 / ComputeShaderTile.hlsl:
+// Intel 2010 sample ComputeShaderTile.hlsl (and the tile-frustum note):
 //   tileScale = float2(mFramebufferDimensions.xy) * rcp(float(2 * COMPUTE_SHADER_TILE_GROUP_DIM))
 //   tileBias  = tileScale - float2(groupId.xy)
 //   c1 = (_11 * tileScale.x, 0, tileBias.x, 0); c2 = (0, -_22 * tileScale.y, tileBias.y, 0); c4 = (0, 0, 1, 0)
 // In view space dot(c1, p) = z (tx - gx) with tx = (x_ndc + 1) * tileScale.x the position in tile
 // units from the left, and dot(c2, p) = z (ty - gy) with ty = (1 - y_ndc) * tileScale.y from the
-// top (seed001_004.md B, "sign conventions"), so tile g is tx in [g, g + 1].
+// top (derived from c1 and c2; tests/unit/tile_frustum_test.cpp), so tile g is tx in [g, g + 1].
 struct IntelTileColumns {
-    glm::vec2 tileScale{0.0f};  // tiles per half screen (600 px / (2 * 10 px) = 30 for seed 004)
+    glm::vec2 tileScale{0.0f};  // tiles per half screen (600 px / (2 * 10 px) = 30 in the note's example)
     glm::vec2 tileBias{0.0f};   // tileScale - groupId
     glm::vec4 c1{0.0f}, c2{0.0f}, c4{0.0f};
 };
@@ -143,8 +143,8 @@ inline IntelTileColumns intelTileColumns(glm::uvec2 groupId, std::uint32_t tileD
 }
 
 enum class IntelSidePlanes : std::uint8_t {
-    Seed004,     // the note (seed 004): c4 - c1, c1, c4 - c2, c2: exactly tile g (tx in [g, g + 1]).
-    Sample2010,  // Intel's 2010 sample and its forks (reference-implementations.md §3): c4 - c1,
+    TileBounds,     // the tile-frustum note: c4 - c1, c1, c4 - c2, c2: exactly tile g (tx in [g, g + 1]).
+    Sample2010,  // Intel's 2010 sample and its forks (ComputeShaderTile.hlsl): c4 - c1,
                  // c4 + c1, c4 - c2, c4 + c2. ERRATUM: c4 + c1 >= 0 is tx >= g - 1, so every tile
                  // frustum spans tiles g-1 .. g in x and in y (2x2 tiles, extending left and up):
                  // conservative but four times the area (test "Intel 2010 sample planes span 2x2
@@ -152,9 +152,9 @@ enum class IntelSidePlanes : std::uint8_t {
                  // and 2 * tileScale - 2g - 1.
 };
 
-// The four side planes before normalization (seed 004's "P0..P3" columns, the worked example).
+// The four side planes before normalization (the note's frustumPlanes[0..3], as in its worked example).
 inline std::array<glm::vec4, 4> intelSidePlanesRaw(const IntelTileColumns& cols, IntelSidePlanes form) {
-    if (form == IntelSidePlanes::Seed004) return {cols.c4 - cols.c1, cols.c1, cols.c4 - cols.c2, cols.c2};
+    if (form == IntelSidePlanes::TileBounds) return {cols.c4 - cols.c1, cols.c1, cols.c4 - cols.c2, cols.c2};
     return {cols.c4 - cols.c1, cols.c4 + cols.c1, cols.c4 - cols.c2, cols.c4 + cols.c2};
 }
 

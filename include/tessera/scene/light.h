@@ -1,6 +1,6 @@
 // Lights in tessera's world units: point, spot and directional, the union of what
 // KHR_lights_punctual, the scene file's explicit lists and its generators describe. The 3dgep
-// shading model reads range and spotHalfAngleDeg exactly as its Light struct does (seed 000).
+// shading model reads range and spotHalfAngleDeg exactly as its Light struct does (3dgep article §2.2.3).
 #pragma once
 
 #include <limits>

@@ -63,14 +63,14 @@ struct LightGeneratorSpec {
 std::vector<Light> generateLights(const LightGeneratorSpec& spec, const Bounds& sceneBounds);
 
 // ===== AMD ForwardPlus11's light generator (ForwardPlusUtil.cpp InitLights) ======================
-// reference-implementations.md §2.1. The demo fills MAX_NUM_LIGHTS = 2048 point lights, then 2048
+// (docs/sources.md, ForwardPlus11). The demo fills MAX_NUM_LIGHTS = 2048 point lights, then 2048
 // spot lights, from the MSVC C runtime's rand() after srand(1); the GUI then uses the first N of
 // each. Every light gets the same radius, 0.075 * |half the scene AABB's diagonal|; spot lights
 // fit the maximum-volume cone in that sphere (height 4/3 r, half angle atan(sqrt(2)/2) = 35.26 deg).
 // Reproduced bit for bit, given the two things the source leaves to its compiler:
 //  - the order in which the arguments of XMFLOAT4(GetRandFloat(..), GetRandFloat(..), ..) are
 //    evaluated (C++ leaves it unspecified): CallArgumentOrder, default RightToLeft (what MSVC does
-//    on x86 and x64 for such calls [INFERRED, not guaranteed by MSVC]);
+//    on x86 and x64 for such calls [tessera's inference, not guaranteed by MSVC]);
 //  - AMD::ConvertF32ToF16 (amd_sdk HelperFunctions.cpp, not in our copy of the sources): taken as
 //    the mantissa-truncating conversion, i.e. convert::floatToHalf (round toward zero) [ASSUMED].
 // DirectXMath's XMVector3Length / XMVector3Normalize are evaluated as their SSE2 paths do it:

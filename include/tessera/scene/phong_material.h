@@ -1,4 +1,4 @@
-// The 3dgep shading model's material (seed 000; the demo's Engine/inc/Material.h, 160-byte
+// The 3dgep shading model's material (3dgep article §2.2.1; the demo's Engine/inc/Material.h, 160-byte
 // constant buffer): Phong colours, opacity, specular power, eight texture slots, with the demo's
 // defaults, and the one place where a glTF metallic-roughness material maps onto it.
 #pragma once
@@ -46,7 +46,7 @@ struct PhongMaterial {
 };
 
 // 2^10.5 = 1448.1547: the largest specular power the deferred G-buffer's log2(p)/10.5 packing
-// represents (seed 000 §G-buffer, the Killzone 2 method); phongFromGltf clamps to it.
+// represents (3dgep article §3.1.1.4, the Killzone 2 method); phongFromGltf clamps to it.
 inline constexpr float kPhongMaxSpecularPower = 1448.15466f;
 // Specular colour of a dielectric (F0 = 0.04 = ((1.5 - 1) / (1.5 + 1))^2, IOR 1.5), as in the
 // glTF 2.0 specification's Appendix B (metal-rough BRDF).

@@ -1,4 +1,4 @@
-// The precision modes of SPEC.md: reference (double, no storage quantization), exact
+// The precision modes (README.md, "Precision modes"): reference (double, no storage quantization), exact
 // (binary32, the sources' formats, bit for bit; the default) and fast (measured approximations).
 #pragma once
 

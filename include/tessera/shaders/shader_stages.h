@@ -15,7 +15,7 @@ namespace tessera {
 
 // Varyings are a trivially copyable struct made only of floats (float, glm::vec2/3/4, arrays
 // of them): the rasterizer interpolates them component by component as a float array.
-// kMaxVaryingFloats = 64 floats (16 float4 registers; D3D11 allows 32, the seeds use <= 6).
+// kMaxVaryingFloats = 64 floats (16 float4 registers; D3D11 allows 32, the sources' shaders use <= 6).
 inline constexpr std::size_t kMaxVaryingFloats = 64;
 
 template <class V>

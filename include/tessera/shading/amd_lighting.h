@@ -1,5 +1,5 @@
-// AMD's Forward+ lighting model, as ForwardPlus11's RenderScenePS evaluates it (ForwardPlus11.hlsl;
-// reference-implementations.md §2.1): the "fake inverse squared" falloff -0.05 + 1.05/(1 + 20x^2),
+// AMD's Forward+ lighting model, as ForwardPlus11's RenderScenePS evaluates it (ForwardPlus11
+// Shaders/ForwardPlus11.hlsl): the "fake inverse squared" falloff -0.05 + 1.05/(1 + 20x^2),
 // Lambert diffuse and Blinn-Phong specular (power 8), squared-linear spot cone, the x2 / x8 "pump",
 // the up/down ambient and the final texture modulation. Generic over the scalar like
 // phong_lighting.h (T = float: `exact`; T = double: `reference`), in the shader's operation order.
@@ -17,7 +17,7 @@
 namespace tessera {
 
 // ===== Light data as the shader reads it =========================================================
-// The demo keeps geometry (culling) and properties (shading) in separate buffers (seed 002 §2.6):
+// The demo keeps geometry (culling) and properties (shading) in separate buffers (as GPU Pro 4 §5.3.1 advises):
 //   g_PointLightBufferCenterAndRadius  R32G32B32A32_FLOAT  (centre xyz world, radius)
 //   g_PointLightBufferColor            R8G8B8A8_UNORM      (rgb; a = 1)
 //   g_SpotLightBufferCenterAndRadius   R32G32B32A32_FLOAT  (bounding-sphere centre, bounding radius)
@@ -180,8 +180,8 @@ AmdLightingResult<T> amdAccumulateLights(std::span<const AmdPointLight<T>> point
     return accum;
 }
 
-// The demo's per-object ambient colours (ForwardPlus11.cpp, g_MaterialAmbientColorUp / Down;
-// reference-implementations.md §2.1).
+// The demo's per-object ambient colours (ForwardPlus11.cpp,
+// g_MaterialAmbientColorUp / Down).
 inline constexpr glm::vec3 kAmdAmbientUp{0.013f, 0.015f, 0.050f};
 inline constexpr glm::vec3 kAmdAmbientDown{0.0013f, 0.0015f, 0.0050f};
 

@@ -1,4 +1,4 @@
-// The 3dgep lighting model (seed 000 §4; the demo's CommonInclude.hlsl), written once and
+// The 3dgep lighting model (3dgep article §2.3.2; the demo's CommonInclude.hlsl), written once and
 // generic over the scalar: T = float is the `exact` precision mode, T = double `reference`.
 // Everything works on 4-component vectors as the HLSL does (dot products include w), with the
 // article's order of operations, since multiplication order decides the bits.
@@ -122,7 +122,7 @@ T lightingCos(T x) {
     else return detCos(x);
 }
 
-// The article's Light struct in view space (seed 000 §2; 112 bytes there, a plain value here).
+// The article's Light struct in view space (3dgep article §2.2.3; 112 bytes there, a plain value here).
 // positionView = View * (positionWorld, 1); directionView = normalize(View * (directionWorld, 0)).
 template <class T>
 struct ViewLight {
@@ -264,8 +264,8 @@ LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPow
     return total;
 }
 
-// The Forward+ PS loop (the demo's ForwardPlusRendering.hlsl PS_main; seed 000 §6 "Forward+
-// final shading"): `for (i = 0; i < lightCount; i++) light = Lights[LightIndexList[startOffset
+// The Forward+ PS loop (the demo's ForwardPlusRendering.hlsl PS_main; 3dgep article §4.6 "Final
+// Shading"): `for (i = 0; i < lightCount; i++) light = Lights[LightIndexList[startOffset
 // + i]]` with DoLighting's skips and sums. lightIndexAt(i) is LightIndexList[startOffset + i]
 // as the PS loads it; an index past the light list reads a zeroed Light (D3D11 out-of-bounds
 // StructuredBuffer load: 0), whose Enabled is false, so it is skipped. If the list is in

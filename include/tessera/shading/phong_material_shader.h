@@ -1,4 +1,4 @@
-// The 3dgep vertex shader and the material-gathering + lighting pixel shader (seed 000 §3–§4;
+// The 3dgep vertex shader and the material-gathering + lighting pixel shader (3dgep article §2.1–§2.3;
 // the demo's ForwardRendering.hlsl), shared by forward and (later) deferred. Pixel shading is
 // specialized at compile time by the material features it uses (a bitmask template parameter);
 // a dispatcher picks the instantiation per material at run time and names it for --stats.
@@ -26,7 +26,7 @@
 
 namespace tessera {
 
-// VertexShaderOutput of seed 000 §2, plus TEXCOORD_1 for glTF materials that use it.
+// VertexShaderOutput of the 3dgep article §2.1, plus TEXCOORD_1 for glTF materials that use it.
 struct PhongVaryings {
     glm::vec3 posView;        // mul(ModelView, float4(position, 1)).xyz
     glm::vec2 uv0, uv1;       // TEXCOORD_0, TEXCOORD_1
@@ -35,7 +35,7 @@ struct PhongVaryings {
     glm::vec3 normalView;     // mul((float3x3)ModelView, normal): upper 3x3, NOT the inverse transpose
 };
 
-// VS_main (seed 000 §3). The article's vertex has a BINORMAL attribute; glTF gives tangent.w, so
+// VS_main (3dgep article §2.1). The article's vertex has a BINORMAL attribute; glTF gives tangent.w, so
 // binormalObject = cross(normalObject, tangentObject.xyz) * tangentObject.w (glTF 2.0 §3.7.2.1).
 // Matrix-vector products are glm's (column combination m[0]*v.x + m[1]*v.y + ..., summed left
 // to right; HLSL's mul(M, v) leaves its dp4 order to the hardware).
@@ -88,7 +88,7 @@ struct BoundTexture {
 };
 
 // Material features; a shader variant is a mask of them. Normal mapping wins over bump mapping
-// when a material has both (seed 000 §4: "if HasNormalTexture ... else if HasBumpTexture").
+// when a material has both (3dgep article §2.3.1.5: "if HasNormalTexture ... else if HasBumpTexture").
 enum PhongFeature : std::uint32_t {
     kPhongAmbientTexture = 1u << 0,
     kPhongEmissiveTexture = 1u << 1,
@@ -119,7 +119,7 @@ std::uint32_t phongFeatures(const PhongMaterial& material, bool alphaTest);
 inline constexpr std::uint32_t kPhongSpecializedAxes =
     kPhongAmbientTexture | kPhongEmissiveTexture | kPhongDiffuseTexture | kPhongNormalMap | kPhongAlphaTest;
 
-// The Forward+ light grid and light index list one pass binds (seed 000 §6; the demo's
+// The Forward+ light grid and light index list one pass binds (3dgep article §4.6; the demo's
 // ForwardPlusRendering.hlsl PS_main: `Texture2D<uint2> LightGrid : t10`, `StructuredBuffer<uint>
 // LightIndexList : t9`), read as the PS does: tileIndex = uint2(floor(SV_Position.xy /
 // BLOCK_SIZE)); (startOffset, lightCount) = LightGrid[tileIndex] (0 outside the grid: D3D11
@@ -134,7 +134,7 @@ struct TileLightList {
 };
 
 // Everything the pixel shader reads for one draw: the Material constant buffer in T, the bound
-// textures and the view-space lights (seed 000 §2 Material, Light).
+// textures and the view-space lights (3dgep article §2.2.1 Material, §2.2.3 Light).
 template <class T>
 struct PhongShaderData {
     Vec4<T> globalAmbient, ambientColor, emissiveColor, diffuseColor, specularColor;

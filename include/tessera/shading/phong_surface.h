@@ -1,4 +1,4 @@
-// The 3dgep pixel shaders' material gathering (seed 000 §4; the demo's ForwardRendering.hlsl
+// The 3dgep pixel shaders' material gathering (3dgep article §2.3.1; the demo's ForwardRendering.hlsl
 // PS_main and DeferredRendering.hlsl PS_Geometry share it): diffuse, alpha and the optional
 // cut-out, ambient, emissive, specular power and colour, the view-space normal with normal or
 // bump mapping, in the shaders' order of operations. Forward, Forward+ and the G-buffer run it.

@@ -1,5 +1,5 @@
-// Lights-per-tile debug colours of AMD's Forward+ samples (ForwardPlus11DebugDraw.hlsl,
-// reference-implementations.md §2.1): the "weather radar" ramp on a log scale and the grayscale
+// Lights-per-tile debug colours of AMD's Forward+ samples (ForwardPlus11
+// ForwardPlus11DebugDraw.hlsl): the "weather radar" ramp on a log scale and the grayscale
 // view, count -> colour, as float4 (what the pixel shader returns) and as the RGBA8 UNORM texel a
 // R8G8B8A8_UNORM target stores. Used by the forward-plus-amd heat-map buffers.
 #pragma once

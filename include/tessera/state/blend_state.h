@@ -34,7 +34,7 @@ struct BlendState {
     std::array<RenderTargetBlendDesc, kMaxRenderTargets> renderTarget{};
 };
 
-// Alpha blending as the seeds use it (SRC_ALPHA, INV_SRC_ALPHA, ADD).
+// Alpha blending as the reproduced sources use it (SRC_ALPHA, INV_SRC_ALPHA, ADD).
 inline constexpr RenderTargetBlendDesc kAlphaBlend{true, Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add,
                                                     Blend::One, Blend::InvSrcAlpha, BlendOp::Add, WriteAll};
 // Additive accumulation (ONE, ONE, ADD), as deferred light passes use it.

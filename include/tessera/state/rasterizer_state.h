@@ -1,5 +1,5 @@
 // D3D11_RASTERIZER_DESC as a value type: culling, winding, depth clip, scissor, MSAA.
-// Fill mode is always SOLID and depth bias is not modelled (none of the seeds use them).
+// Fill mode is always SOLID and depth bias is not modelled (none of the sources use them).
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
-// AMD Forward+ light culling on the CPU: GPU Pro 4's gather kernel (seed 002 §2) over 8x8 tiles,
+// AMD Forward+ light culling on the CPU: GPU Pro 4's gather kernel (ch. 5 §5.3.1) over 8x8 tiles,
 // one thread group per tile, with the two-level light list (a group-shared list of
 // LIGHT_CAPACITY = 256, then one global index pool with per-tile offsets), optional 2.5D culling
-// (seed 002 §6, math/depth_mask.h), run through compute/dispatch.h. Input: a depth buffer and the
+// (GPU Pro 4 §5.6.1, math/depth_mask.h), run through compute/dispatch.h. Input: a depth buffer and the
 // lights' bounding spheres in AMD's left-handed view space; output: the pool and per-tile ranges
 // the forward-plus-amd shading pass reads. Caller: the forward-plus-amd technique and its tests.
 #pragma once
@@ -18,36 +18,36 @@
 
 namespace tessera {
 
-inline constexpr std::uint32_t kAmdTileSizePx = 8;       // seed 002 §2.1: 8x8 px tiles, 64 threads a group
-inline constexpr std::uint32_t kAmdLightCapacity = 256;  // seed 002 §2.5: LIGHT_CAPACITY, group-shared list entries
+inline constexpr std::uint32_t kAmdTileSizePx = 8;       // GPU Pro 4 §5.3.1: 8x8 px tiles, 64 threads a group
+inline constexpr std::uint32_t kAmdLightCapacity = 256;  // GPU Pro 4 §5.3.1: LIGHT_CAPACITY, group-shared list entries
 
 // How the tile's depth range is read from the depth buffer (math/tile_depth_range.h).
 enum class AmdDepthConvention : std::uint8_t {
-    GpuPro4,        // seed 002 §2.3: depth cleared to 1.0 (skipped), z = projToView(depth).z; edge
+    GpuPro4,        // GPU Pro 4 §5.3.1: depth cleared to 1.0 (skipped), z = projToView(depth).z; edge
                     // threads load 0 and add the near plane to the minimum (tileViewZBitsAmdGpuPro4)
     ForwardPlus11,  // ForwardPlus11: reversed depth cleared to 0 (skipped), z = 1 / (d _34 + _44)
                     // (tileViewZBitsAmdForwardPlus11)
 };
 
 enum class AmdDepthCulling : std::uint8_t {
-    MinMax,       // seed 002 §2.4: side planes + the tile's [minZ, maxZ] slab
-    DepthMask25D, // + seed 002 §6: the light's depth mask must share a cell with the tile's
+    MinMax,       // GPU Pro 4 §5.3.1: side planes + the tile's [minZ, maxZ] slab
+    DepthMask25D, // + GPU Pro 4 §5.6.1: the light's depth mask must share a cell with the tile's
 };
 
 // Which depth slab a tile's lights must reach.
 enum class AmdDepthRange : std::uint8_t {
-    Opaque,     // [minZ, maxZ] of the tile's non-cleared pixels (seed 002 §2.3)
+    Opaque,     // [minZ, maxZ] of the tile's non-cleared pixels (GPU Pro 4 §5.3.1)
     NearToMax,  // [near plane, maxZ] with cleared pixels entering the maximum as the far plane:
                 // the list for blended geometry, which lies anywhere in front of the opaque depth
-                // (tessera; TiledLighting11 takes the minimum from a blended-depth pre-pass instead,
-                // reference-implementations.md §2.2). GpuPro4 convention only; no 2.5D, no half-Z.
+                // (tessera; TiledLighting11 takes the minimum from a blended-depth pre-pass instead).
+                // GpuPro4 convention only; no 2.5D, no half-Z.
 };
 
 // Which lights each tile's strided loop visits. Both give the same bytes: the binned loop skips
 // only lights whose side-plane test fails on that tile (tests/unit/amd_light_culling_test.cpp
 // "binned and all-lights loops give the same bytes").
 enum class AmdLightLoop : std::uint8_t {
-    AllLights,  // seed 002 §2.4 as written: every tile tests every light (14,400 tiles x N at 720p)
+    AllLights,  // GPU Pro 4 §5.3.1 as written: every tile tests every light (14,400 tiles x N at 720p)
     Binned,     // tessera: per light, the tile columns and rows its padded bounding sphere can reach
                 // (src/techniques/tile_binning.h); each tile visits its row's candidates in
                 // ascending light index
@@ -62,21 +62,21 @@ struct AmdCullingOptions {
     // (tileOffsetFar / tileLightCountFar), each its own group-shared list of LIGHT_CAPACITY; the
     // tile reserves countA + countB pool entries, A first. With 2.5D the mask test applies too.
     bool halfZ = false;
-    AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (seed 002's reading)
+    AmdTileCorners corners = AmdTileCorners::Screen;  // projToView(pixel x, y) over the screen (GPU Pro 4's reading)
     compute::GroupOrder order = compute::GroupOrder::Parallel;  // same bytes as Serial (offsets in row-major order)
     AmdLightLoop lightLoop = AmdLightLoop::Binned;              // same bytes as AllLights
 };
 
-// The kernel's outputs. Tile t = gx + gy * tileCount.x (seed 002 §2.5 (d), [INFERRED]).
+// The kernel's outputs. Tile t = gx + gy * tileCount.x (GPU Pro 4 §5.3.1 leaves tileIdx undefined).
 // Pool layout: tiles in row-major order, each tile's lights in ascending light index (the
-// deterministic order tessera fixes for the GPU's atomics, SPEC.md "Compute"); a tile with no
+// deterministic order tessera fixes for the GPU's atomics, compute/dispatch.h); a tile with no
 // lights reserves nothing and keeps offset 0, as the document's write-back does.
 struct AmdTileLightLists {
     glm::uvec2 tileCount{0u};                    // tiles per axis: ceil(screen / 8)
     std::vector<std::uint32_t> lightIndices;     // gLightIdx, gLightIdxCounter entries
     std::vector<std::uint32_t> tileOffset;       // ptLowerBound[t]: first entry of tile t in the pool
     std::vector<std::uint32_t> tileLightCount;   // entries of tile t: min(found, 256). The document
-                                                 // stores only the lower bound (seed 002 §2.5 (b));
+                                                 // stores only the lower bound (GPU Pro 4 §5.3.1);
                                                  // GetTileOffsets needs this end.
     std::vector<std::uint32_t> tileFoundCount;   // ldsLightIdxCounter: lights that passed, unclamped
     std::vector<std::uint32_t> tileMinZBits;     // ldsZMin, ldsZMax (asuint of LH view z)
@@ -107,7 +107,7 @@ struct AmdTileLightLists {
 //      candidates; ascending light index either way): side planes
 //      and slab (sphereOverlapsTileAmd), (2.5D) the mask AND; appendLightToList: InterlockedAdd
 //      on the shared counter, store if the slot is < 256; barrier
-//   5. thread 0: count = min(counter, 256) (the clamp seed 002 §2.5 (c) requires: the printed
+//   5. thread 0: count = min(counter, 256) (the clamp GPU Pro 4 §5.3.1 needs: the printed
 //      write-back copies `counter` entries and reads past the shared list above 256); if
 //      count != 0 reserve `count` entries of the global pool (InterlockedAdd, taken in row-major
 //      group order: compute/dispatch.h order rule 3); ptLowerBound[t] = start; barrier

@@ -1,4 +1,4 @@
-// The `deferred` and `deferred-killzone` techniques of seed 000 (3dgep §5; the demo's
+// The `deferred` and `deferred-killzone` techniques of the 3dgep article (§3; the demo's
 // g_DeferredTechnique, DeferredRendering.hlsl, DeferredLightingPass.cpp): G-buffer, depth copy,
 // per-light stencil light volumes (3dgep unmark + shade, or Killzone 2 mark + count + shade),
 // directional lights as a far-plane quad, then forward's transparent pass.
@@ -18,7 +18,7 @@ namespace tessera {
 // Defaults are faithful to the demo; every other value is a named correction (ERRATA.md).
 //   "projection": "demo-gl" | "d3d"      as forward (forward.h): the demo's GL-form matrix.
 //   "reconstruct": "corner" | "centre"   where ScreenToView evaluates P: the integer pixel
-//       int2(SV_Position.xy) (faithful, seed 000 §9.15) or its centre (x + 0.5, y + 0.5).
+//       int2(SV_Position.xy) (faithful, 3dgep article §3.3.3) or its centre (x + 0.5, y + 0.5).
 //   "lightVolumes": "inscribed" | "circumscribed"   the demo's polygons inside the light's
 //       sphere / cone, or scaled to contain them (light_volumes.h).
 //   "volumeRotation": "glm096" | "robust"   light_volumes.h VolumeRotation.

@@ -1,6 +1,6 @@
 // Fixed-function states of the deferred techniques: the 3dgep G-buffer pass, per-light
-// unmark and shade passes and the directional full-screen quad (seed 000 §5, demo main.cpp via
-// reference-implementations.md §1.6), and the Killzone 2 mark / count / shade variant the
+// unmark and shade passes and the directional full-screen quad (3dgep article §3.3, demo main.cpp
+// and DeferredLightingPass.cpp), and the Killzone 2 mark / count / shade variant the
 // article describes but does not use. The deferred and deferred-killzone techniques bind these.
 #pragma once
 
@@ -48,7 +48,7 @@ constexpr PassState gbuffer() {
     PassState p;
     p.rasterizer = demoRasterizer(CullMode::Back, true);
     // main.cpp g_pGeometryPipeline: the demo's DepthMode defaults, depth on, write on, LESS;
-    // stencil off (the G-buffer clear leaves stencil 0, reference-implementations.md §1.7).
+    // stencil off (the G-buffer clear leaves stencil 0, demo main.cpp).
     p.depthStencil.depthEnable = true;
     p.depthStencil.depthWriteEnable = true;
     p.depthStencil.depthFunc = ComparisonFunc::Less;
@@ -58,14 +58,14 @@ constexpr PassState gbuffer() {
 
 constexpr PassState unmark() {
     PassState p;
-    // seed 000 §5 step 2 "cull BACK, so only front faces are drawn"; main.cpp
+    // 3dgep article §3.3.1 Unmark Pixels: cull BACK "to render only the front faces"; main.cpp
     // g_pDeferredLightingPipeline1: SetCullMode(Back), SetDepthClipEnabled(true).
     p.rasterizer = demoRasterizer(CullMode::Back, true);
-    // seed 000 §5: "Depth: test on, writes off, func GREATER" (main.cpp DepthFunction = Greater).
+    // Article §3.3.1: depth test on, writes off, function GREATER (main.cpp DepthFunction = Greater).
     p.depthStencil = depthTestNoWrite(ComparisonFunc::Greater);
-    // seed 000 §5: "Stencil: on, func ALWAYS, op DECR_SAT on depth pass"; main.cpp
+    // Article §3.3.1: stencil on, function ALWAYS, DECR_SAT on depth pass; main.cpp
     // StencilReference = 1, FrontFace.StencilDepthPass = DecrementClamp, masks 0xFF (defaults);
-    // BackFace keeps the defaults {KEEP, KEEP, KEEP, ALWAYS} (reference-implementations.md §1.6).
+    // BackFace keeps the defaults {KEEP, KEEP, KEEP, ALWAYS} (demo DepthStencilState.h).
     p.depthStencil.stencilEnable = true;
     p.depthStencil.stencilReadMask = 0xFF;
     p.depthStencil.stencilWriteMask = 0xFF;
@@ -77,12 +77,12 @@ constexpr PassState unmark() {
 
 constexpr PassState shade() {
     PassState p;
-    // seed 000 §5 step 3: "cull FRONT, so only back faces are drawn; depth clipping disabled";
+    // Article §3.3.2 Shade Pixels: cull FRONT (back faces only), depth clipping disabled;
     // main.cpp g_pDeferredLightingPipeline2: SetCullMode(Front), SetDepthClipEnabled(false).
     p.rasterizer = demoRasterizer(CullMode::Front, false);
-    // seed 000 §5: "Depth: test on, writes off, func GREATER_EQUAL" (main.cpp GreaterOrEqual).
+    // Article §3.3.2: depth test on, writes off, function GREATER_EQUAL (main.cpp GreaterOrEqual).
     p.depthStencil = depthTestNoWrite(ComparisonFunc::GreaterEqual);
-    // seed 000 §5: "Stencil: ref 1, func EQUAL, ops KEEP"; main.cpp sets it on BackFace only,
+    // Article §3.3.2: stencil reference 1, function EQUAL, ops KEEP; main.cpp sets it on BackFace only,
     // FrontFace keeps the defaults {KEEP, KEEP, KEEP, ALWAYS} (front faces are culled anyway).
     p.depthStencil.stencilEnable = true;
     p.depthStencil.stencilReadMask = 0xFF;
@@ -90,7 +90,7 @@ constexpr PassState shade() {
     p.depthStencil.frontFace = StencilFaceDesc{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Always};
     p.depthStencil.backFace = StencilFaceDesc{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
     p.stencilRef = 1;
-    // seed 000 §5: "Blend: enabled, src ONE, dst ONE, op ADD".
+    // Article §3.3.2: blending on, source ONE, destination ONE, operation ADD.
     p.blend = additive();
     return p;
 }
@@ -110,10 +110,10 @@ constexpr PassState directional() {
 
 constexpr PassState killzoneMark() {
     PassState p;
-    // seed 000 §5 Killzone 2: "Mark: VS only, cull FRONT" (back faces), depth clip as default
-    // ("Disabling depth clip does not help", seed 000 §9 item 5).
+    // 3dgep article §3.2.1.1 Mark Pixels (Killzone 2): VS only, cull FRONT (back faces), depth
+    // clip as default (disabling depth clipping does not help, article §3.3).
     p.rasterizer = demoRasterizer(CullMode::Front, true);
-    // "depth GREATER_EQUAL (writes off), stencil ref 1, ALWAYS, REPLACE on depth pass".
+    // Depth GREATER_EQUAL (writes off), stencil ref 1, ALWAYS, REPLACE on depth pass.
     p.depthStencil = depthTestNoWrite(ComparisonFunc::GreaterEqual);
     p.depthStencil.stencilEnable = true;
     const StencilFaceDesc replaceOnPass{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
@@ -125,8 +125,8 @@ constexpr PassState killzoneMark() {
 
 constexpr PassState killzoneCount() {
     PassState p;
-    // seed 000 §5 Killzone 2: "Count: cull BACK (front faces), depth LESS_EQUAL, stencil EQUAL 1,
-    // KEEP, plus an occlusion query".
+    // Article §3.2.1.2 Count Pixels: cull BACK (front faces), depth LESS_EQUAL, stencil EQUAL 1,
+    // KEEP, plus an occlusion query.
     p.rasterizer = demoRasterizer(CullMode::Back, true);
     p.depthStencil = depthTestNoWrite(ComparisonFunc::LessEqual);
     p.depthStencil.stencilEnable = true;
@@ -138,7 +138,7 @@ constexpr PassState killzoneCount() {
 }
 
 constexpr PassState killzoneShade() {
-    // seed 000 §5 Killzone 2: "Shade: Count states plus PS, accumulation target, ONE/ONE/ADD".
+    // Article §3.2.2 Shade Pixels: the Count states plus PS, accumulation target, ONE/ONE/ADD.
     PassState p = killzoneCount();
     p.blend = additive();
     return p;
@@ -147,7 +147,7 @@ constexpr PassState killzoneShade() {
 } // namespace deferred_detail
 
 // G-buffer pass (3dgep): cull back, depth LESS with writes, no stencil, no blending. Targets:
-// accumulation (back buffer), diffuse, specular, normal, D24S8 (seed 000 §5).
+// accumulation (back buffer), diffuse, specular, normal, D24S8 (3dgep article §3.1.1).
 inline constexpr PassState kDeferredGBufferPass = deferred_detail::gbuffer();
 // Per light, after clearing stencil to 1 (DeferredLightingPass.cpp `Clear(Stencil, ..., 1)`):
 // unmark = front faces, depth GREATER, stencil ALWAYS / DECR_SAT on pass, ref 1; VS only.
@@ -157,15 +157,15 @@ inline constexpr PassState kDeferredShadePass = deferred_detail::shade();
 // Directional lights: full-screen quad at depth 1, depth GREATER, no stencil, ONE+ONE.
 inline constexpr PassState kDeferredDirectionalPass = deferred_detail::directional();
 
-// Killzone 2 variant, per light after clearing stencil to 0 (seed 000 §5):
+// Killzone 2 variant, per light after clearing stencil to 0 (3dgep article §3.2):
 // mark = back faces, depth GREATER_EQUAL, stencil ALWAYS / REPLACE on pass, ref 1; VS only.
 inline constexpr PassState kKillzoneMarkPass = deferred_detail::killzoneMark();
 // count = front faces, depth LESS_EQUAL, stencil EQUAL 1, KEEP, inside an occlusion query.
 inline constexpr PassState kKillzoneCountPass = deferred_detail::killzoneCount();
 // shade = the count states with the lighting PS and ONE+ONE blending.
 inline constexpr PassState kKillzoneShadePass = deferred_detail::killzoneShade();
-// The shade draw is skipped unless the count query's samples exceed this threshold (seed 000
-// §5 leaves the value open; 0 = shade whenever any sample passed).
+// The shade draw is skipped unless the count query's samples exceed this threshold (3dgep article
+// §3.2.1.2 leaves the value open; 0 = shade whenever any sample passed).
 inline constexpr std::uint64_t kKillzoneDefaultThreshold = 0;
 
 // The stencil values each method clears to before a light's passes.

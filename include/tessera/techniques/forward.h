@@ -1,7 +1,7 @@
-// The `forward` technique of seed 000 (3dgep): clear, opaque pass, transparent pass with alpha
+// The `forward` technique of the 3dgep article (§2): clear, opaque pass, transparent pass with alpha
 // blending, every light evaluated per pixel by the article's pixel shader
-// (shading/phong_material_shader.h). Pass states follow the demo's main.cpp (seed 000 §10,
-// reference-implementations.md §1.7); options select faithful or corrected behaviour.
+// (shading/phong_material_shader.h). Pass states follow the 3dgep demo's
+// GraphicsTest/src/main.cpp; options select faithful or corrected behaviour.
 #pragma once
 
 #include <array>
@@ -24,11 +24,11 @@ namespace tessera {
 //       demo-gl: the demo's glm::perspective in OpenGL form ([2][2] = -(f+n)/(f-n),
 //       [3][2] = -2fn/(f-n)) used unchanged under D3D clipping 0 <= z <= w, so the effective
 //       near plane is at view z = -2fn/(f+n) (-0.19998 for n = 0.1, f = 1000) and the depth
-//       buffer holds GL NDC z (seed 000 §10, reference-implementations.md §1.5).
+//       buffer holds GL NDC z (demo Camera.cpp; ERRATA #1).
 //       d3d: perspectiveRH_ZO, near plane at -n, depth 0 at the near plane.
 //   "sampler": "demo" (default: the demo's LinearRepeatSampler, trilinear + wrap, for every
 //       slot) | "gltf" (each texture's glTF sampler).
-//   "alphaTest": false (default: the demo's forward PS applies no AlphaThreshold, seed 000 §9.4)
+//   "alphaTest": false (default: the demo's forward PS applies no AlphaThreshold, ERRATA #2)
 //       | true (discard when alpha * Opacity < AlphaThreshold, as the demo's G-buffer PS does;
 //       makes glTF MASK cut-outs work).
 inline constexpr std::array<std::string_view, 3> kForwardOptionKeys{"projection", "sampler", "alphaTest"};
@@ -53,7 +53,7 @@ inline constexpr glm::vec4 kDemoClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConvention convention);
 
 // What forward's passes share over a frame, also used by deferred's transparent pass ("identical
-// to forward", seed 000 §5): size, camera matrices, the Phong texture set and the view-space
+// to forward", 3dgep article §3.4): size, camera matrices, the Phong texture set and the view-space
 // lights (float for exact, double for reference).
 struct ForwardPassSetup {
     std::uint32_t width = 0, height = 0;   // px

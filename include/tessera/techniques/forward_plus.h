@@ -1,4 +1,4 @@
-// The `forward-plus` technique of seed 000 (3dgep tiled forward shading, §6; the demo's
+// The `forward-plus` technique of the 3dgep article (tiled forward shading, §4; the demo's
 // ForwardPlusRendering.hlsl and g_ForwardPlusTechnique): clear, depth pre-pass, grid frustums,
 // the light-culling dispatch (per-tile depth range, opaque and transparent light lists, light
 // grids), the heat map, then forward's opaque and transparent passes reading the tile's list.
@@ -30,7 +30,7 @@ namespace tessera {
 //       the grid keeps the full count, and the copy to the global list reads the missing
 //       entries as 0 (an out-of-bounds group-shared read, undefined in D3D11.3; tessera reads 0,
 //       as every other out-of-bounds read does), so light 0 takes their place. Global lists of
-//       numTiles * 200 entries (main.cpp; "an average of 200 lights per tile", seed 000 §6):
+//       numTiles * 200 entries (main.cpp; "an average of 200 lights per tile", 3dgep article §4.3.2):
 //       the counter keeps growing past the end, writes past it are discarded (D3D11.3 UAV
 //       out-of-bounds write) and the pixel shader reads 0 there (out-of-bounds StructuredBuffer
 //       load), so an overflowing tile is shaded `count` times with light 0, or, where light 0
@@ -79,7 +79,7 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusOptionKeys{
 // Precision reference and fast are InputErrors naming "/precision".
 Frame buildForwardPlus(const TechniqueContext& context);
 
-// The demo's list sizes (seed 000 §6 and §10; ForwardPlusRendering.hlsl, main.cpp).
+// The demo's list sizes (3dgep article §4.3.2, §4.5; ForwardPlusRendering.hlsl, main.cpp).
 inline constexpr std::uint32_t kForwardPlusLocalListCapacity = 1024;   // o_LightList[1024], entries
 inline constexpr std::uint32_t kForwardPlusAverageLightsPerTile = 200; // global list: numTiles * 200 entries
 

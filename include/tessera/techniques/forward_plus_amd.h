@@ -1,4 +1,4 @@
-// The `forward-plus-amd` technique of seed 002 (GPU Pro 4 Forward+, with AMD's ForwardPlus11 /
+// The `forward-plus-amd` technique of GPU Pro 4 ch. 5 (Forward+, with AMD's ForwardPlus11 /
 // TiledLighting11 demos where the chapter is silent): clear, depth pre-pass, the 8x8 culling
 // dispatch (techniques/amd_light_culling.h: two-level list, 2.5D, optional half-Z), final shading
 // with AMD's lighting (shading/amd_lighting.h) or the 3dgep Phong shader over the AMD lists.

@@ -1,5 +1,5 @@
-// The 3dgep demo's light-volume meshes and their transforms (reference-implementations.md
-// §1.6, demo Engine/src/DX11/RenderDeviceDX11.cpp and GraphicsTest/src/DeferredLightingPass.cpp):
+// The 3dgep demo's light-volume meshes and their transforms (3dgep
+// demo Engine/src/DX11/RenderDeviceDX11.cpp and GraphicsTest/src/DeferredLightingPass.cpp):
 // a subdivided icosahedron for point lights, a closed cone for spot lights, and the
 // T * R * S model matrix; plus the circumscribed fit that corrects the inscribed polygons.
 #pragma once

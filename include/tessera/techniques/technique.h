@@ -39,7 +39,7 @@ struct TechniqueContext {
 struct TechniqueInfo {
     std::string_view id;
     std::string_view summary;
-    std::string_view source;       // seed / article the technique follows
+    std::string_view source;       // the source it follows (docs/sources.md)
     // Null while the technique is planned but not implemented.
     Frame (*build)(const TechniqueContext&) = nullptr;
     // The option keys the technique accepts in "options" (others are rejected).

@@ -1,6 +1,6 @@
 // The `tiled-deferred` technique: Intel's compute-shaded tiled deferred shading (Lauritzen,
-// SIGGRAPH 2010, ComputeShaderTile.hlsl; seed 004 for the tile planes; reference-
-// implementations.md §3): G-buffer, then ONE dispatch with a thread group per tile that reduces
+// SIGGRAPH 2010; Intel 2010 sample ComputeShaderTile.hlsl; tile-frustum note for the tile
+// planes): G-buffer, then ONE dispatch with a thread group per tile that reduces
 // the tile's view-z range, culls every light against planes taken from the projection, and
 // shades the tile's pixels from its list; then a present pass and forward's transparent pass.
 #pragma once
@@ -48,8 +48,8 @@ namespace tessera {
 //   "normals": "spheremap" | "float"   intel shading only: the view normal passes through
 //       Intel's G-buffer storage (spheremap encode, R16G16B16A16_FLOAT, decode; GBuffer.hlsl
 //       2010 lines), or is used as stored in gbuffer.normal.
-//   "tilePlanes": "sample2010" | "seed004"   the side planes: Intel's sample (c4 - c1, c4 + c1,
-//       c4 - c2, c4 + c2; each tile frustum spans 2x2 tiles, ERRATA) or seed 004's (c4 - c1, c1,
+//   "tilePlanes": "sample2010" | "tile"   the side planes: Intel's sample (c4 - c1, c4 + c1,
+//       c4 - c2, c4 + c2; each tile frustum spans 2x2 tiles, ERRATA) or the tile-frustum note's (c4 - c1, c1,
 //       c4 - c2, c2: exactly the tile). Both conservative; lists and heat map differ, images not.
 //   "tileSize": 16 | 8 | 32   COMPUTE_SHADER_TILE_GROUP_DIM (the sample's ShaderDefines.h: 16).
 //   "tileListCapacity": integer >= 1 | "unbounded"   sTileLightIndices[MAX_LIGHTS], MAX_LIGHTS
@@ -78,7 +78,7 @@ inline constexpr std::array<std::string_view, 10> kTiledDeferredOptionKeys{
 //                       appended; more than the stored count when the list overflowed)
 //   "tiles.lightIndices" R32_UINT: every tile's list, tiles in row-major order, each in
 //                       ascending light index (the fixed order of the group-shared
-//                       InterlockedAdd, SPEC.md Compute); 16384 indices per row
+//                       InterlockedAdd, compute/dispatch.h); 16384 indices per row
 //   "tiles.depthRange"  R32G32_UINT, one texel per tile: the reduction's (sMinZ, sMaxZ) bits
 // Precision reference and fast are InputErrors naming "/precision".
 Frame buildTiledDeferred(const TechniqueContext& context);
