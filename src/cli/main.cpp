@@ -1,7 +1,7 @@
 // The `tessera` command: `render` draws a scene file (or a glTF, or the built-in scene) with a
-// technique and writes the back buffer; `list` shows techniques and bundled scenes; `info`
-// describes a scene; `diff` compares two images (diff.cpp). Exit codes: 0 success, 1 failure while
-// rendering, 2 bad usage or bad input.
+// technique and writes the back buffer; `list` shows techniques and bundled scenes; `options`
+// lists each technique's options; `info` describes a scene; `diff` compares two images (diff.cpp).
+// Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -26,6 +26,7 @@
 #include <tessera/io/json_depth.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
+#include <tessera/techniques/option_catalog.h>
 #include <tessera/techniques/technique.h>
 
 #include <tessera/techniques/builtin_scene.h>
@@ -36,15 +37,19 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using tessera::OptionInfo;
 
 constexpr const char* kUsage = R"(usage: tessera <command> [options]
 
 commands:
   render [SCENE]  render a scene and write the back buffer (default: the bundled scene 'default')
   list            list techniques and bundled scenes
+  options [TECH]  list the options of every technique (or of TECH): values, faithful default,
+                  correction, erratum
   info SCENE      describe a scene: triangles, materials, lights, bounds, memory
   diff A B        compare two images: max abs difference, RMSE, PSNR, differing pixels
-  help            show this text
+  help [COMMAND]  show this text, or the command's options
+  --version       print the version
 
 SCENE is a scene file (.json), a glTF file (.gltf/.glb), the name of a bundled scene
 (see `tessera list`), or `builtin` (a generated scene that needs no files).
@@ -58,6 +63,9 @@ buffer: PNG stores the 8-bit bytes as rendered, EXR the decoded values (half or 
 
 options:
   --technique ID    technique to use instead of the scene file's (see `tessera list`)
+  --option KEY=VALUE  a technique option, over the scene file's (repeatable; VALUE is JSON, or a
+                    bare word taken as a string: --option coneTest=corrected --option tileSize=32);
+                    checked against the technique before anything loads (see `tessera options`)
   --out FILE        output image, .png or .exr (default: tessera.png); alpha is written opaque, as presented
   --exr TYPE        EXR pixel type: half or float (default: float)
   --width W         width in px, 1..16384 (default: the scene file's)
@@ -87,6 +95,13 @@ Lists the techniques (with their source and whether they are implemented) and th
 scenes (scene files in the scenes folder; TESSERA_SCENES overrides where that is).
 )";
 
+constexpr const char* kOptionsUsage = R"(usage: tessera options [TECHNIQUE]
+
+Lists the options each technique accepts (in a scene file's "options" object, or with
+`tessera render --option KEY=VALUE`): the values, the default (faithful to the source), the
+correcting value where the option corrects an erratum, the ERRATA.md row, and what it changes.
+)";
+
 constexpr const char* kInfoUsage = R"(usage: tessera info SCENE
 
 Loads SCENE without decoding images and prints its triangles, meshes, instances, materials,
@@ -104,6 +119,17 @@ std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint3
         throw UsageError(std::string(flag) + ": '" + std::string(text) + "' is not an integer in " + std::to_string(lo) + ".." +
                          std::to_string(hi));
     return std::uint32_t(v);
+}
+
+// --option KEY=VALUE: VALUE as JSON (true, 32, "x", [..]), else the bare text as a string.
+std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string_view::npos || eq == 0)
+        throw UsageError("--option: '" + std::string(text) + "' is not KEY=VALUE (see tessera options)");
+    const std::string key(text.substr(0, eq)), valueText(text.substr(eq + 1));
+    nlohmann::json value = nlohmann::json::parse(valueText, nullptr, false);
+    if (value.is_discarded()) value = valueText;
+    return {key, value};
 }
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
@@ -159,12 +185,33 @@ struct RenderOptions {
     std::uint32_t width = 0, height = 0;  // 0: the scene's
     std::optional<tessera::Precision> precision;
     std::optional<std::uint32_t> lights;
+    std::vector<std::pair<std::string, nlohmann::json>> options;  // --option, in command-line order
     tessera::DeviceConfig device;
     std::uint32_t msaa = 1;
     std::uint32_t repeat = 1, warmup = 0;
-    bool stats = false, quiet = false, noOutput = false, outGiven = false;
+    bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false;
     tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
 };
+
+void warn(const std::string& text) { std::fprintf(stderr, "tessera: warning: %s\n", text.c_str()); }
+
+// The --option values checked against the technique's catalogue (techniques/option_catalog.h)
+// and laid over the scene file's options.
+void applyOptionArgs(const RenderOptions& o, const std::string& technique, nlohmann::json& options) {
+    for (const auto& [key, value] : o.options) {
+        const OptionInfo* info = tessera::findOption(technique, key);
+        if (!info) {
+            std::string known;
+            for (const OptionInfo& k : tessera::techniqueOptions(technique)) known += (known.empty() ? "" : ", ") + std::string(k.key);
+            throw UsageError("--option " + key + ": " + technique + " has no option '" + key + "'" +
+                             (known.empty() ? " (it has none)" : " (it has " + known + ")"));
+        }
+        if (const auto problem = tessera::optionValueProblem(*info, value))
+            throw UsageError("--option " + key + "=" + value.dump() + ": " + *problem + " (technique " + technique + ")");
+        if (!options.is_object()) options = nlohmann::json::object();
+        options[key] = value;
+    }
+}
 
 RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& help) {
     RenderOptions o;
@@ -177,12 +224,14 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         };
         if (a == "--help" || a == "-h") help = true;
         else if (a == "--technique") o.technique = std::string(value());
+        else if (a == "--option") o.options.push_back(parseOptionArg(value()));
         else if (a == "--out") {
             o.out = std::string(value());
             o.outGiven = true;
         } else if (a == "--no-output") o.noOutput = true;
         else if (a == "--scalar-raster") o.device.simdBlocks = false;
         else if (a == "--exr") {
+            o.exrTypeGiven = true;
             const std::string_view t = value();
             if (t == "half") o.exrType = tessera::ExrPixelType::Half;
             else if (t == "float") o.exrType = tessera::ExrPixelType::Float;
@@ -221,7 +270,37 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
+    if (!o.options.empty() && o.scene == "builtin")
+        throw UsageError("--option: the builtin scene has no technique options (render a scene file to use them)");
+    if (o.exrTypeGiven && ext != ".exr") warn("--exr: the output '" + o.out + "' is not .exr; the flag changes nothing");
+    if (o.scene == "builtin") {
+        if (!o.technique.empty()) warn("--technique: the builtin scene draws with its own shading; the flag changes nothing");
+        if (o.lights) warn("--lights: the builtin scene has no light generators; the flag changes nothing");
+    }
     return o;
+}
+
+
+// Output paths checked before anything loads or renders: --out's folder exists and is writable,
+// --dump is a folder (or can become one). A render that would fail at its end fails now.
+void checkOutputPaths(const RenderOptions& o) {
+    if (o.noOutput) return;
+    std::error_code ec;
+    const fs::path out(o.out);
+    const fs::path outDir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    if (!fs::is_directory(outDir, ec)) throw UsageError("--out: '" + o.out + "': the folder '" + outDir.string() + "' does not exist");
+    if (access(outDir.c_str(), W_OK) != 0) throw UsageError("--out: '" + o.out + "': the folder '" + outDir.string() + "' is not writable");
+    if (fs::is_directory(out, ec)) throw UsageError("--out: '" + o.out + "' is a folder");
+    if (!o.dumpDir.empty()) {
+        const fs::path dump(o.dumpDir);
+        if (fs::exists(dump, ec) && !fs::is_directory(dump, ec))
+            throw UsageError("--dump: '" + o.dumpDir + "' exists and is not a folder");
+        fs::path existing = dump;  // the deepest existing ancestor must be writable
+        while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
+        if (existing.empty()) existing = ".";
+        if (access(existing.c_str(), W_OK) != 0)
+            throw UsageError("--dump: '" + o.dumpDir + "': '" + existing.string() + "' is not writable");
+    }
 }
 
 // One written file and the FNV-1a 64 hash of its bytes (io/atomic_file.h), for --stats.
@@ -363,6 +442,7 @@ int render(const std::vector<std::string_view>& args) {
         std::fputs(kRenderUsage, stdout);
         return 0;
     }
+    checkOutputPaths(o);
     if (o.scene == "builtin") return renderBuiltin(o);
 
     // Loading: bad input is exit 2 (InputError); everything else that fails is exit 1.
@@ -371,11 +451,20 @@ int render(const std::vector<std::string_view>& args) {
     const fs::path sceneFile = resolveScene(o.scene);
     tessera::SceneDescription desc = describe(sceneFile);
     if (!o.technique.empty()) desc.technique = o.technique;
+    if (!tessera::findTechnique(desc.technique)) {
+        std::string ids;
+        for (const tessera::TechniqueInfo& t : tessera::techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
+        if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
+    }
+    applyOptionArgs(o, desc.technique, desc.techniqueOptions);
     if (o.width) desc.width = o.width;
     if (o.height) desc.height = o.height;
     if (o.precision) desc.precision = *o.precision;
-    if (o.lights)
+    if (o.lights) {
+        if (desc.generators.empty())
+            warn("--lights: " + sceneFile.string() + " has no light generators; the flag changes nothing");
         for (auto& g : desc.generators) g.count = *o.lights;
+    }
     if (!tessera::findTechnique(desc.technique) || !tessera::findTechnique(desc.technique)->build) {
         tessera::TechniqueContext probe;  // reports unknown / unimplemented with the key path
         (void)tessera::buildTechnique(desc.technique, probe, sceneFile.string());
@@ -483,6 +572,53 @@ int list(const std::vector<std::string_view>& args) {
     return 0;
 }
 
+// `tessera options [TECHNIQUE]`: the option catalogue (techniques/option_catalog.h) as text.
+int options(const std::vector<std::string_view>& args) {
+    std::string only;
+    for (const std::string_view a : args) {
+        if (a == "--help" || a == "-h") {
+            std::fputs(kOptionsUsage, stdout);
+            return 0;
+        }
+        if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera options --help)");
+        if (!only.empty()) throw UsageError("options takes one TECHNIQUE at most");
+        only = std::string(a);
+        if (!tessera::findTechnique(only)) {
+            std::string ids;
+            for (const tessera::TechniqueInfo& t : tessera::techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
+            throw UsageError("options: unknown technique '" + only + "' (one of " + ids + ")");
+        }
+    }
+    bool first = true;
+    for (const tessera::TechniqueInfo& t : tessera::techniques()) {
+        if (!only.empty() && t.id != only) continue;
+        if (!first) std::puts("");
+        first = false;
+        const auto list = tessera::techniqueOptions(t.id);
+        std::printf("%s%s\n", std::string(t.id).c_str(),
+                    !t.build ? " (planned)" : list.empty() ? ": no options" : "");
+        for (const OptionInfo& option : list) {
+            std::printf("  %-17s %s\n", std::string(option.key).c_str(), tessera::optionValuesText(option).c_str());
+            std::printf("  %-17s default %s", "", std::string(option.faithful).c_str());
+            if (!option.corrected.empty()) std::printf("; correction %s", std::string(option.corrected).c_str());
+            if (option.erratum != 0) std::printf("; ERRATA.md #%d", option.erratum);
+            std::printf("\n  %-17s %s\n", "", std::string(option.meaning).c_str());
+        }
+    }
+    return 0;
+}
+
+// `tessera info builtin`: the generated scene's facts without a file.
+int infoBuiltin() {
+    const tessera::BuiltinSceneOptions opt;
+    std::printf("scene       builtin (generated, no files)\n");
+    std::printf("technique   its own Lambert-shaded draws (no scene-file technique), %ux%u by default, precision exact "
+                "unless --precision; --msaa 1, 2, 4 or 8\n",
+                opt.width, opt.height);
+    std::printf("contents    generated cubes and a blended pane; no textures, no technique options\n");
+    return 0;
+}
+
 int info(const std::vector<std::string_view>& args) {
     std::string sceneArg;
     for (const std::string_view a : args) {
@@ -495,6 +631,7 @@ int info(const std::vector<std::string_view>& args) {
         sceneArg = std::string(a);
     }
     if (sceneArg.empty()) throw UsageError("info needs a SCENE");
+    if (sceneArg == "builtin") return infoBuiltin();
     const fs::path file = resolveScene(sceneArg);
     const tessera::SceneDescription desc = describe(file);
     (void)tessera::requireTechnique(desc.technique, file.string());  // planned techniques are described too
@@ -544,18 +681,32 @@ int info(const std::vector<std::string_view>& args) {
 int main(int argc, char** argv) {
     std::vector<std::string_view> args(argv + 1, argv + argc);
     try {
-        if (args.empty() || args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
+        if (args.empty() || args[0] == "--help" || args[0] == "-h" || (args[0] == "help" && args.size() == 1)) {
             std::fputs(kUsage, args.empty() ? stderr : stdout);
             return args.empty() ? 2 : 0;
+        }
+        if (args[0] == "--version" || args[0] == "version") {
+            std::printf("tessera %s\n", TESSERA_VERSION);
+            return 0;
+        }
+        if (args[0] == "help") {  // help COMMAND = COMMAND --help
+            if (args.size() > 2) throw UsageError("help takes one COMMAND");
+            args = {args[1], "--help"};
         }
         const std::vector<std::string_view> rest(args.begin() + 1, args.end());
         if (args[0] == "render") return render(rest);
         if (args[0] == "list") return list(rest);
+        if (args[0] == "options") return options(rest);
         if (args[0] == "info") return info(rest);
         if (args[0] == "diff") return tessera::cli::diffCommand(rest);
-        throw UsageError("unknown command '" + std::string(args[0]) + "'");
+        std::fprintf(stderr, "tessera: unknown command '%s'\n%s", std::string(args[0]).c_str(), kUsage);
+        return 2;
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);
+        // The command's own help names its options; the top-level usage would bury the message.
+        const bool known = !args.empty() && (args[0] == "render" || args[0] == "list" || args[0] == "options" ||
+                                             args[0] == "info" || args[0] == "diff");
+        if (known) std::fprintf(stderr, "tessera: %s\n(see `tessera help %s`)\n", e.what(), std::string(args[0]).c_str());
+        else std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);
         return 2;
     } catch (const tessera::InputError& e) {
         std::fprintf(stderr, "tessera: %s\n", e.what());

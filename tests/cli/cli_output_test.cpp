@@ -191,14 +191,15 @@ TEST_CASE("cli: concurrent renders to one --out all exit 0 and leave one complet
     }
 }
 
-TEST_CASE("cli: --out naming an existing directory exits 1 with the real cause, not 'Success'") {
+TEST_CASE("cli: --out naming an existing directory is refused before rendering with the real cause, not 'Success'") {
+    // (The write path's own refusal, "cannot rename into place", is tests/io's atomic_file_test.)
     const fs::path dir = scratch("rename");
     const fs::path out = dir / "taken.png";
     fs::create_directories(out / "inside");
     const Run r = run("render builtin --width 16 --height 16 --out " + out.string());
     INFO(r.output);
-    CHECK(r.exitCode == 1);
-    CHECK(r.output.find(out.string() + ": cannot rename into place: ") != std::string::npos);
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("--out: '" + out.string() + "' is a folder") != std::string::npos);
     CHECK(r.output.find("Success") == std::string::npos);
     CHECK(partialFiles(dir) == 0);
 }

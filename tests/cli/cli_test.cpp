@@ -79,15 +79,86 @@ TEST_CASE("cli: bad usage exits 2 and names the flag and value") {
     }
 }
 
-TEST_CASE("cli: a failed write exits 1, names the file and leaves nothing behind") {
+TEST_CASE("cli: an output that cannot be written is refused before rendering, names the path and leaves nothing behind") {
     const auto dir = scratch("no-such-dir") / "deeper";
     std::filesystem::remove_all(dir.parent_path());
     const auto out = dir / "x.png";
-    const Run r = run("render builtin --out " + out.string() + " --width 16 --height 16");
+    // The Sponza scene would take seconds to load: the refusal comes before any loading.
+    const Run r = run("render sponza-small-lights --out " + out.string());
     INFO(r.output);
-    CHECK(r.exitCode == 1);
-    CHECK(r.output.find(out.string()) != std::string::npos);
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("--out") != std::string::npos);
+    CHECK(r.output.find(dir.string()) != std::string::npos);
+    CHECK(r.output.find("loading") == std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir));
+    // --dump onto an existing file.
+    const auto file = scratch("a-file");
+    { std::FILE* f = std::fopen(file.string().c_str(), "w"); REQUIRE(f); std::fclose(f); }
+    const Run d = run("render builtin --out " + scratch("d.png").string() + " --dump " + file.string());
+    CHECK(d.exitCode == 2);
+    CHECK(d.output.find("--dump") != std::string::npos);
+    CHECK(d.output.find("not a folder") != std::string::npos);
+}
+
+TEST_CASE("cli: --version, help COMMAND, info builtin, and warnings for flags a scene ignores") {
+    const Run v = run("--version");
+    CHECK(v.exitCode == 0);
+    CHECK(v.output.rfind("tessera 0.", 0) == 0);
+    const Run h = run("help render");
+    CHECK(h.exitCode == 0);
+    CHECK(h.output.find("usage: tessera render") != std::string::npos);
+    CHECK(h.output.find("--option KEY=VALUE") != std::string::npos);
+    const Run i = run("info builtin");
+    INFO(i.output);
+    CHECK(i.exitCode == 0);
+    CHECK(i.output.find("builtin (generated, no files)") != std::string::npos);
+    const Run w = run("render builtin --lights 5 --technique forward --exr half --width 16 --height 16 --out " +
+                      scratch("w.png").string());
+    INFO(w.output);
+    CHECK(w.exitCode == 0);
+    for (const char* flag : {"warning: --lights", "warning: --technique", "warning: --exr"})
+        CHECK_MESSAGE(w.output.find(flag) != std::string::npos, flag);
+}
+
+TEST_CASE("cli: options lists every technique's options; render --option is checked against the technique before loading") {
+    const Run all = run("options");
+    INFO(all.output);
+    CHECK(all.exitCode == 0);
+    for (const char* line : {"forward-plus\n", "  coneTest          demo | corrected", "ERRATA.md #10", "tileListCapacity",
+                             "integer >= 1 | unbounded", "preview: no options", "deferred-cookbook (planned)"})
+        CHECK_MESSAGE(all.output.find(line) != std::string::npos, line);
+    const Run one = run("options deferred");
+    CHECK(one.exitCode == 0);
+    CHECK(one.output.find("lightVolumes") != std::string::npos);
+    CHECK(one.output.find("coneTest") == std::string::npos);
+    CHECK(run("options raytrace").exitCode == 2);
+
+    struct Case { const char* args; const char* mentions; };
+    const Case cases[] = {
+        {"render sponza-small-lights --technique forward-plus --option coneTest=maybe",
+         "--option coneTest=\"maybe\": \"maybe\" is not one of demo | corrected (technique forward-plus)"},
+        {"render sponza-small-lights --technique forward --option coneTest=corrected", "forward has no option 'coneTest'"},
+        {"render sponza-small-lights --technique forward-plus --option tileSize=12", "12 is not one of 16 | 8 | 32"},
+        {"render sponza-small-lights --option noequals", "is not KEY=VALUE"},
+        {"render builtin --option projection=d3d", "the builtin scene has no technique options"},
+    };
+    for (const Case& c : cases) {
+        const Run r = run(c.args);
+        INFO(c.args << " -> " << r.output);
+        CHECK(r.exitCode == 2);
+        CHECK(r.output.find(c.mentions) != std::string::npos);
+        CHECK(r.output.find("loading") == std::string::npos);
+    }
+    // A valid option reaches the technique: the corrected projection changes the image of the
+    // default scene (the demo's GL-form matrix moves the near plane), the same option twice does not.
+    const auto a = scratch("opt-a.png"), b = scratch("opt-b.png"), c = scratch("opt-c.png");
+    REQUIRE(run("render default --width 64 --height 36 --quiet --out " + a.string()).exitCode == 0);
+    REQUIRE(run("render default --width 64 --height 36 --quiet --option projection=\"d3d\" --out " + b.string()).exitCode == 0);
+    REQUIRE(run("render default --width 64 --height 36 --quiet --option projection=demo-gl --out " + c.string()).exitCode == 0);
+    CHECK(run("diff " + a.string() + " " + c.string()).output.find("differing  0 of") != std::string::npos);
+    const Run diff = run("diff " + a.string() + " " + b.string());
+    INFO(diff.output);
+    CHECK(diff.output.find("differing  0 of") == std::string::npos);
 }
 
 TEST_CASE("cli: --help for every subcommand exits 0") {

@@ -1,0 +1,195 @@
+// The option catalogue (techniques/option_catalog.h): one table per technique, in the order the
+// technique's header documents its options. The meanings are short; the headers say more.
+#include <tessera/techniques/option_catalog.h>
+
+#include <array>
+
+namespace tessera {
+namespace {
+
+using Kind = OptionInfo::Kind;
+
+constexpr std::array<std::string_view, 2> kBool{"false", "true"};
+constexpr std::array<std::string_view, 2> kProjection{"demo-gl", "d3d"};
+constexpr std::array<std::string_view, 2> kProjectionAmd{"d3d", "demo-gl"};
+constexpr std::array<std::string_view, 1> kProjectionD3d{"d3d"};
+constexpr std::array<std::string_view, 2> kSampler{"demo", "gltf"};
+constexpr std::array<std::string_view, 2> kReconstruct{"corner", "centre"};
+constexpr std::array<std::string_view, 2> kVolumes{"inscribed", "circumscribed"};
+constexpr std::array<std::string_view, 2> kRotation{"glm096", "robust"};
+constexpr std::array<std::string_view, 2> kGBuffer{"demo", "float"};
+constexpr std::array<std::string_view, 2> kPosition{"reconstruct", "gbuffer"};
+constexpr std::array<std::string_view, 2> kAccumulate{"color", "lighting"};
+constexpr std::array<std::string_view, 2> kLightLists{"demo", "unbounded"};
+constexpr std::array<std::string_view, 2> kConeTest{"demo", "corrected"};
+constexpr std::array<std::string_view, 3> kTileSize{"16", "8", "32"};
+constexpr std::array<std::string_view, 2> kCulling{"binned", "brute"};
+constexpr std::array<std::string_view, 2> kShadingAmd{"amd", "3dgep"};
+constexpr std::array<std::string_view, 2> kCullingAmd{"depth-mask", "min-max"};
+constexpr std::array<std::string_view, 2> kLightLoop{"binned", "all-lights"};
+constexpr std::array<std::string_view, 2> kShadingIntel{"intel", "3dgep"};
+constexpr std::array<std::string_view, 2> kNormals{"spheremap", "float"};
+constexpr std::array<std::string_view, 2> kTilePlanes{"sample2010", "tile"};
+constexpr std::array<std::string_view, 1> kUnbounded{"unbounded"};
+constexpr std::array<std::string_view, 0> kNone{};
+
+constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
+                                       "the demo's OpenGL-form perspective under D3D clipping (near plane at 0.19998), or "
+                                       "perspectiveRH_ZO"};
+constexpr OptionInfo kSamplerOption{"sampler", Kind::Word, kSampler, -1, "demo", "", 0,
+                                    "the demo's trilinear wrap sampler for every texture, or each texture's glTF sampler"};
+constexpr OptionInfo kAlphaTestOption{"alphaTest", Kind::Bool, kBool, -1, "false", "true", 2,
+                                      "discard where alpha * Opacity < AlphaThreshold in the forward-shaded pass, which the "
+                                      "demo's forward PS never does"};
+constexpr OptionInfo kTileSizeOption{"tileSize", Kind::Integer, kTileSize, -1, "16", "", 0,
+                                     "tile edge in px, one thread group per tile (BLOCK_SIZE)"};
+
+constexpr std::array<OptionInfo, 3> kForward{kProjectionOption, kSamplerOption, kAlphaTestOption};
+
+constexpr std::array<OptionInfo, 9> kDeferred{
+    kProjectionOption,
+    OptionInfo{"reconstruct", Kind::Word, kReconstruct, -1, "corner", "centre", 3,
+               "where the light pass rebuilds P from depth: the pixel's top-left corner, or its centre"},
+    OptionInfo{"lightVolumes", Kind::Word, kVolumes, -1, "inscribed", "circumscribed", 4,
+               "the demo's sphere and cone meshes inside the light's range, or scaled to contain it"},
+    OptionInfo{"volumeRotation", Kind::Word, kRotation, -1, "glm096", "robust", 5,
+               "glm 0.9.6's quat(u, v) (identity for a spot aimed down -Z), or a rotation that handles it"},
+    OptionInfo{"gbuffer", Kind::Word, kGBuffer, -1, "demo", "float", 7,
+               "RGBA8 targets with log2(p)/10.5 specular power and D24S8, or float targets and D32S8"},
+    OptionInfo{"position", Kind::Word, kPosition, -1, "reconstruct", "gbuffer", 0,
+               "P from the depth buffer, or the interpolated view position stored in gbuffer.position"},
+    OptionInfo{"accumulate", Kind::Word, kAccumulate, -1, "color", "lighting", 0,
+               "each light blends its colour into RT0, or lighting is summed apart and composed as forward does (the "
+               "order that reproduces forward's bits)"},
+    kSamplerOption,
+    kAlphaTestOption};
+
+// deferred's options and one more.
+template <std::size_t N>
+constexpr std::array<OptionInfo, N + 1> withOption(const std::array<OptionInfo, N>& base, const OptionInfo& extra) {
+    std::array<OptionInfo, N + 1> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = base[i];
+    out[N] = extra;
+    return out;
+}
+
+constexpr std::array<OptionInfo, 10> kKillzone = withOption(
+    kDeferred, OptionInfo{"threshold", Kind::Integer, kNone, 0, "0", "", 0,
+                          "a light's shade draw runs only when its occlusion query passed more than this many samples"});
+
+constexpr std::array<OptionInfo, 7> kForwardPlus{
+    kProjectionOption,
+    kSamplerOption,
+    kAlphaTestOption,
+    OptionInfo{"lightLists", Kind::Word, kLightLists, -1, "demo", "unbounded", 15,
+               "the demo's fixed light lists (1024 per tile, 200 per tile globally) that overflow silently, or lists "
+               "that never drop a light"},
+    OptionInfo{"coneTest", Kind::Word, kConeTest, -1, "demo", "corrected", 10,
+               "the article's ConeInsidePlane (m not normalised: not conservative), or the corrected test"},
+    kTileSizeOption,
+    OptionInfo{"culling", Kind::Word, kCulling, -1, "binned", "", 0,
+               "how the culling dispatch finds each tile's lights: binned by tile rows, or every light in every tile "
+               "(the same lists)"}};
+
+constexpr std::array<OptionInfo, 7> kForwardPlusAmd{
+    OptionInfo{"shading", Kind::Word, kShadingAmd, -1, "amd", "", 0,
+               "ForwardPlus11's pixel shader (AMD falloff and lighting), or the 3dgep article's Phong shader"},
+    OptionInfo{"culling", Kind::Word, kCullingAmd, -1, "depth-mask", "", 0,
+               "GPU Pro 4's 2.5D culling (32-cell depth mask), or side planes and the tile's depth slab"},
+    OptionInfo{"halfZ", Kind::Bool, kBool, -1, "false", "", 21,
+               "TiledLighting11's two lists per tile split at the middle of its depth range (shading amd only)"},
+    OptionInfo{"projection", Kind::Word, kProjectionAmd, -1, "d3d (shading 3dgep: demo-gl)", "d3d", 1,
+               "as forward; AMD's sample builds a D3D matrix, the 3dgep shading follows the 3dgep demo"},
+    kSamplerOption,
+    kAlphaTestOption,
+    OptionInfo{"lightLoop", Kind::Word, kLightLoop, -1, "binned", "", 0,
+               "which lights each tile's culling loop visits: binned by tile rows, or all (GPU Pro 4's kernel); the "
+               "same lists"}};
+
+constexpr std::array<OptionInfo, 10> kTiledDeferred{
+    OptionInfo{"shading", Kind::Word, kShadingIntel, -1, "intel", "", 0,
+               "Intel's 2010 sample shading, or the 3dgep article's Phong equations on the same G-buffer"},
+    OptionInfo{"gbuffer", Kind::Word, kGBuffer, -1, "demo", "float", 7,
+               "the sample's quantised G-buffer, or float targets"},
+    OptionInfo{"position", Kind::Word, kPosition, -1, "reconstruct", "gbuffer", 0,
+               "P from the depth buffer (Intel's reconstruction), or the interpolated view position"},
+    OptionInfo{"normals", Kind::Word, kNormals, -1, "spheremap", "float", 0,
+               "intel shading: the normal through the sample's spheremap encoding, or as stored in float"},
+    OptionInfo{"tilePlanes", Kind::Word, kTilePlanes, -1, "sample2010", "tile", 12,
+               "the sample's side planes (c4 +- c1, c4 +- c2: each spans 2x2 tiles), or planes that bound the tile"},
+    kTileSizeOption,
+    OptionInfo{"tileListCapacity", Kind::IntegerOrWord, kUnbounded, 1, "1024", "unbounded", 16,
+               "lights one tile's list holds (MAX_LIGHTS); past it lights are dropped and counted"},
+    OptionInfo{"projection", Kind::Word, kProjectionD3d, -1, "d3d", "", 0,
+               "the only value: Intel's view-z reconstruction needs a D3D-form matrix"},
+    kSamplerOption,
+    kAlphaTestOption};
+
+struct TechniqueOptions {
+    std::string_view id;
+    std::span<const OptionInfo> options;
+};
+
+constexpr std::array<TechniqueOptions, 6> kCatalog{{{"forward", kForward},
+                                                    {"deferred", kDeferred},
+                                                    {"deferred-killzone", kKillzone},
+                                                    {"forward-plus", kForwardPlus},
+                                                    {"forward-plus-amd", kForwardPlusAmd},
+                                                    {"tiled-deferred", kTiledDeferred}}};
+
+bool listed(const OptionInfo& option, std::string_view text) {
+    for (const std::string_view v : option.values)
+        if (v == text) return true;
+    return false;
+}
+
+} // namespace
+
+std::span<const OptionInfo> techniqueOptions(std::string_view id) {
+    for (const TechniqueOptions& t : kCatalog)
+        if (t.id == id) return t.options;
+    return {};
+}
+
+const OptionInfo* findOption(std::string_view id, std::string_view key) {
+    for (const OptionInfo& o : techniqueOptions(id))
+        if (o.key == key) return &o;
+    return nullptr;
+}
+
+std::string optionValuesText(const OptionInfo& option) {
+    std::string text;
+    if (option.minInteger >= 0) text = "integer >= " + std::to_string(option.minInteger);
+    for (const std::string_view v : option.values) {
+        if (!text.empty()) text += " | ";
+        text += v;
+    }
+    return text;
+}
+
+std::optional<std::string> optionValueProblem(const OptionInfo& option, const nlohmann::json& value) {
+    const std::string expected = optionValuesText(option);
+    const std::string given = value.dump();
+    switch (option.kind) {
+    case Kind::Bool:
+        if (value.is_boolean()) return std::nullopt;
+        break;
+    case Kind::Word:
+        if (value.is_string() && listed(option, value.get<std::string>())) return std::nullopt;
+        break;
+    case Kind::IntegerOrWord:
+        if (value.is_string() && listed(option, value.get<std::string>())) return std::nullopt;
+        [[fallthrough]];
+    case Kind::Integer:
+        if (value.is_number_integer()) {
+            const std::int64_t n = value.is_number_unsigned() ? std::int64_t(std::min<std::uint64_t>(value.get<std::uint64_t>(), INT64_MAX))
+                                                              : value.get<std::int64_t>();
+            if (option.minInteger >= 0 && n >= option.minInteger) return std::nullopt;
+            if (option.kind == Kind::Integer && listed(option, std::to_string(n))) return std::nullopt;
+        }
+        break;
+    }
+    return given + " is not " + (option.values.size() + (option.minInteger >= 0 ? 1 : 0) > 1 ? "one of " : "") + expected;
+}
+
+} // namespace tessera

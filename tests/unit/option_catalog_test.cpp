@@ -1,0 +1,129 @@
+// The option catalogue (techniques/option_catalog.h) against the parsers: for every implemented
+// technique the catalogue lists exactly the keys the technique accepts, every value it lists
+// (and the faithful default and the correction) builds, and values it does not list are rejected
+// by both the catalogue and the technique, naming /options/KEY.
+#include <doctest/doctest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tessera/io/input_error.h"
+#include "tessera/techniques/option_catalog.h"
+#include "tessera/techniques/technique.h"
+
+using namespace tessera;
+
+namespace {
+
+// One triangle in front of the default camera, 16x16 px.
+Scene tinyScene() {
+    Scene scene;
+    MeshPrimitive prim;
+    prim.positionsObject = {{-1.0f, -1.0f, -2.0f}, {1.0f, -1.0f, -2.0f}, {0.0f, 1.0f, -2.0f}};
+    prim.normalsObject = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    prim.tangentsObject = {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}};
+    prim.texCoords0 = {{0, 0}, {1, 0}, {0.5f, 1}};
+    prim.indices = {0, 1, 2};
+    Mesh mesh;
+    mesh.primitives.push_back(prim);
+    scene.meshes.push_back(mesh);
+    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "triangle"});
+    return scene;
+}
+
+// "" when the technique builds and renders with these options, else the InputError's text.
+std::string buildError(std::string_view technique, const nlohmann::json& options) {
+    static const Scene scene = tinyScene();
+    static const SceneResources resources(scene);
+    Device device(DeviceConfig{64, 1});
+    TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.width = 16;
+    ctx.height = 16;
+    ctx.options = options;
+    ctx.sceneFile = "memory.json";
+    try {
+        BufferRegistry registry;
+        buildTechnique(technique, ctx, ctx.sceneFile).run(registry);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// The JSON values an option's catalogue entry says are valid.
+std::vector<nlohmann::json> listedValues(const OptionInfo& o) {
+    std::vector<nlohmann::json> values;
+    for (const std::string_view v : o.values) {
+        if (o.kind == OptionInfo::Kind::Bool) values.push_back(v == "true");
+        else if (o.kind == OptionInfo::Kind::Integer) values.push_back(std::stoll(std::string(v)));
+        else values.push_back(std::string(v));
+    }
+    if (o.minInteger >= 0) {
+        values.push_back(o.minInteger);
+        values.push_back(o.minInteger + 7);
+    }
+    return values;
+}
+
+} // namespace
+
+TEST_CASE("option catalogue: every implemented technique's keys, values, defaults and corrections build") {
+    int techniquesChecked = 0, valuesChecked = 0;
+    for (const TechniqueInfo& t : techniques()) {
+        if (!t.build) continue;
+        ++techniquesChecked;
+        std::set<std::string> accepted, catalogued;
+        for (const std::string_view k : t.optionKeys) accepted.insert(std::string(k));
+        for (const OptionInfo& o : techniqueOptions(t.id)) catalogued.insert(std::string(o.key));
+        CAPTURE(t.id);
+        CHECK(accepted == catalogued);
+        for (const OptionInfo& o : techniqueOptions(t.id)) {
+            CAPTURE(o.key);
+            CHECK(!o.meaning.empty());
+            CHECK(!o.faithful.empty());
+            for (const nlohmann::json& value : listedValues(o)) {
+                CAPTURE(value.dump());
+                CHECK(!optionValueProblem(o, value));
+                CHECK(buildError(t.id, {{std::string(o.key), value}}) == "");
+                ++valuesChecked;
+            }
+            // The faithful default (its first word) and the correction are listed values.
+            const std::string faithful(o.faithful.substr(0, o.faithful.find(' ')));
+            const auto asJson = [&](const std::string& text) -> nlohmann::json {
+                if (o.kind == OptionInfo::Kind::Bool) return text == "true";
+                if (o.kind != OptionInfo::Kind::Word && text.find_first_not_of("0123456789") == std::string::npos)
+                    return std::stoll(text);
+                return text;
+            };
+            CHECK(!optionValueProblem(o, asJson(faithful)));
+            if (!o.corrected.empty()) CHECK(!optionValueProblem(o, asJson(std::string(o.corrected))));
+            // Values outside the list: rejected by the catalogue and by the technique, which names the key.
+            const std::vector<nlohmann::json> wrong = {"no-such-value", -3, nlohmann::json::array()};
+            for (const nlohmann::json& value : wrong) {
+                CAPTURE(value.dump());
+                CHECK(optionValueProblem(o, value));
+                CHECK(buildError(t.id, {{std::string(o.key), value}}).find("/options/" + std::string(o.key)) != std::string::npos);
+            }
+        }
+    }
+    CHECK(techniquesChecked == 7);   // preview (no options) and the six techniques with options
+    CHECK(valuesChecked >= 90);      // 94 listed values today: the loop really ran over them
+}
+
+TEST_CASE("option catalogue: value text and problems name the accepted values") {
+    const OptionInfo* cone = findOption("forward-plus", "coneTest");
+    REQUIRE(cone);
+    CHECK(optionValuesText(*cone) == "demo | corrected");
+    CHECK(cone->erratum == 10);
+    CHECK(*optionValueProblem(*cone, "x") == "\"x\" is not one of demo | corrected");
+    const OptionInfo* capacity = findOption("tiled-deferred", "tileListCapacity");
+    REQUIRE(capacity);
+    CHECK(optionValuesText(*capacity) == "integer >= 1 | unbounded");
+    CHECK(!optionValueProblem(*capacity, 1));
+    CHECK(optionValueProblem(*capacity, 0));
+    CHECK(!findOption("forward", "coneTest"));
+    CHECK(techniqueOptions("preview").empty());
+}
