@@ -4,6 +4,7 @@
 // Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +20,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <tessera/inspect/buffer_view.h>
 #include <tessera/io/atomic_file.h>
 #include <tessera/raster/quad_block.h>
 #include <tessera/io/image_writer.h>
@@ -77,7 +79,13 @@ options:
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
                     bytes; for comparing speed, and as the oracle the tests hold the SIMD path to)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
-  --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png)
+  --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png),
+                    a viewable picture of each in DIR/view/ (depth stretched, stencil and integers through
+                    palettes with a colour bar) and DIR/manifest.json (passes, buffers, formats, decode rules,
+                    camera, options, command line)
+  --dump-after PASS[,PASS]  with --dump: also the buffers as they stand after each named pass, in
+                    DIR/after-<PASS>/ (the pass names are `pass` lines of --stats)
+  --exposure E      scale of float colour buffers in DIR/view/ (default 1)
   --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
                     prints each pass's and the frame's median over the N runs; the last run is written
   --warmup K        render K untimed frames before the N timed ones, 0..100000 (default 0)
@@ -181,6 +189,8 @@ struct RenderOptions {
     std::string technique;
     std::string out = "tessera.png";
     std::string dumpDir;
+    std::vector<std::string> dumpAfter;  // pass names
+    float exposure = 1.0f;
     tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
     std::uint32_t width = 0, height = 0;  // 0: the scene's
     std::optional<tessera::Precision> precision;
@@ -254,6 +264,21 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         } else if (a == "--repeat") o.repeat = parseUint(a, value(), 1, 100000);
         else if (a == "--warmup") o.warmup = parseUint(a, value(), 0, 100000);
         else if (a == "--dump") o.dumpDir = std::string(value());
+        else if (a == "--dump-after") {
+            const std::string list(value());
+            for (std::size_t start = 0; start <= list.size();) {
+                const std::size_t comma = std::min(list.find(',', start), list.size());
+                if (comma == start) throw UsageError("--dump-after: '" + list + "' has an empty pass name");
+                o.dumpAfter.push_back(list.substr(start, comma - start));
+                start = comma + 1;
+            }
+        } else if (a == "--exposure") {
+            const std::string text(value());
+            char* end = nullptr;
+            o.exposure = std::strtof(text.c_str(), &end);
+            if (end != text.c_str() + text.size() || !(o.exposure > 0.0f) || !std::isfinite(o.exposure))
+                throw UsageError("--exposure: '" + text + "' is not a positive number");
+        }
         else if (a == "--stats") o.stats = true;
         else if (a == "--quiet") o.quiet = true;
         else if (a == "--progress") o.progress = tessera::cli::Progress::Mode::On;
@@ -267,6 +292,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.quiet) o.progress = tessera::cli::Progress::Mode::Off;
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
+    if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
@@ -309,23 +335,75 @@ struct WrittenFile {
     std::uint64_t hash;
 };
 
-std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o) {
+// How a dumped file decodes, for the manifest.
+std::string decodeRule(tessera::Format format, const std::string& file) {
+    const tessera::FormatInfo& info = tessera::formatInfo(format);
+    const std::string name(info.name);
+    if (info.hasDepth)
+        return name + ": depth as float32 in " + file + " (D24: code / (2^24 - 1), exact in float32); stencil codes 0..255 in the .stencil.png";
+    if (format == tessera::Format::R8G8B8A8_UNORM) return name + ": the stored bytes; value = code / 255";
+    if (format == tessera::Format::R8G8B8A8_UNORM_SRGB) return name + ": the stored bytes; RGB decode sRGB -> linear, A = code / 255";
+    if (info.kind == tessera::FormatKind::Uint) return name + ": uint32 per channel as stored (TIFF)";
+    return name + ": each channel decoded to float32 (EXR), the value a shader Load returns";
+}
+
+// Writes every buffer of `registry` into `dir` (exact files, plus viewable pictures in
+// `dir`/view/ when `views`) and describes them in `buffers` (the manifest's entries).
+void dumpRegistry(const tessera::BufferRegistry& registry, const fs::path& dir, const RenderOptions& o, bool views,
+                  std::vector<WrittenFile>& written, nlohmann::json& buffers) {
+    fs::create_directories(dir);
+    if (views) fs::create_directories(dir / "view");
+    for (const std::string& name : registry.names()) {
+        const tessera::Surface& s = *registry.find(name);
+        const std::string file = name + tessera::losslessExtension(s.format());
+        written.push_back({(dir / file).string(), tessera::writeSurface(s, dir / file)});
+        nlohmann::json entry{{"name", name},
+                             {"format", std::string(tessera::formatInfo(s.format()).name)},
+                             {"width", s.width()},
+                             {"height", s.height()},
+                             {"samples", s.sampleCount()},
+                             {"file", file},
+                             {"decode", decodeRule(s.format(), file)}};
+        if (tessera::formatInfo(s.format()).hasStencil) {
+            const std::string stencil = name + ".stencil.png";
+            written.push_back({(dir / stencil).string(), tessera::writeStencil(s, dir / stencil)});
+            entry["stencilFile"] = stencil;
+        }
+        if (views) {
+            nlohmann::json viewEntries = nlohmann::json::array();
+            const auto addView = [&](tessera::ViewChannel channel, const std::string& suffix) {
+                const auto view = tessera::viewBuffer(name, s, channel, o.exposure);
+                if (!view) return;
+                const std::string viewFile = "view/" + name + suffix + ".png";
+                written.push_back({(dir / viewFile).string(), tessera::writeSurface(view->image, dir / viewFile)});
+                viewEntries.push_back({{"file", viewFile}, {"rule", view->rule}});
+            };
+            addView(tessera::ViewChannel::Depth, "");
+            if (tessera::formatInfo(s.format()).hasStencil) addView(tessera::ViewChannel::Stencil, ".stencil");
+            if (!viewEntries.empty()) entry["views"] = viewEntries;
+        }
+        buffers.push_back(entry);
+    }
+}
+
+// What a render wrote: the image, then with --dump every buffer, their views and manifest.json
+// (`manifest` holds the scene, technique, camera, options and command line; the passes and
+// buffers are added here).
+std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, const RenderOptions& o,
+                                      nlohmann::json manifest) {
     std::vector<WrittenFile> written;
     if (o.noOutput) return written;
     // The presented image: alpha ignored, as a swap chain shows it (--dump keeps stored alpha).
     written.push_back({o.out, tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType)});
     if (o.dumpDir.empty()) return written;
-    fs::create_directories(o.dumpDir);
-    for (const std::string& name : registry.names()) {
-        const tessera::Surface& s = *registry.find(name);
-        const fs::path base = fs::path(o.dumpDir) / name;
-        const std::string file = base.string() + tessera::losslessExtension(s.format());
-        written.push_back({file, tessera::writeSurface(s, file)});
-        if (tessera::formatInfo(s.format()).hasStencil) {
-            const std::string stencil = base.string() + ".stencil.png";
-            written.push_back({stencil, tessera::writeStencil(s, stencil)});
-        }
-    }
+    nlohmann::json buffers = nlohmann::json::array();
+    dumpRegistry(registry, o.dumpDir, o, true, written, buffers);
+    manifest["buffers"] = buffers;
+    manifest["image"] = o.out;
+    const std::string text = manifest.dump(2) + "\n";
+    const fs::path manifestFile = fs::path(o.dumpDir) / "manifest.json";
+    tessera::writeFileAtomically(manifestFile, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+    written.push_back({manifestFile.string(), tessera::fnv1a64(std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()))});
     return written;
 }
 
@@ -350,8 +428,24 @@ void printDrawStats(const tessera::DrawStats& s) {
 // counters a run accumulates, so the draw counters printed are one frame's.
 struct FrameRuns {
     std::vector<std::vector<tessera::PassTiming>> passes;  // per timed run, in pass order
-    std::vector<double> frameMs;                           // per timed run
+    std::vector<double> frameMs;                           // per timed run (with --dump-after, the last
+                                                           // run's time includes writing those dumps)
+    std::vector<WrittenFile> afterWritten;                 // --dump-after's files
+    nlohmann::json after = nlohmann::json::object();       // --dump-after: pass -> its buffers
 };
+
+// --dump-after's pass names checked against the frame before it runs.
+void checkDumpAfter(const tessera::Frame& frame, const RenderOptions& o) {
+    for (const std::string& wanted : o.dumpAfter) {
+        std::string names;
+        bool found = false;
+        for (const tessera::Pass& p : frame.passes()) {
+            found = found || p.name == wanted;
+            names += (names.empty() ? "" : ", ") + p.name;
+        }
+        if (!found) throw UsageError("--dump-after: this frame has no pass '" + wanted + "' (its passes: " + names + ")");
+    }
+}
 
 template <class BeforeRun>
 FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& registry, const RenderOptions& o,
@@ -363,14 +457,34 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
         else progress.update(label, 0, 0);
         beforeRun();
         registry = tessera::BufferRegistry{};
+        // The last run (the one written) also writes the buffers after the passes --dump-after names.
+        tessera::Frame::AfterPass afterPass;
+        if (i + 1 == total && !o.dumpAfter.empty())
+            afterPass = [&](const tessera::Pass& pass, const tessera::BufferRegistry& now) {
+                if (std::find(o.dumpAfter.begin(), o.dumpAfter.end(), pass.name) == o.dumpAfter.end()) return;
+                nlohmann::json buffers = nlohmann::json::array();
+                dumpRegistry(now, fs::path(o.dumpDir) / ("after-" + pass.name), o, true, runs.afterWritten, buffers);
+                runs.after[pass.name] = {{"folder", "after-" + pass.name}, {"buffers", buffers}};
+            };
         const auto t = Clock::now();
-        std::vector<tessera::PassTiming> timings = frame.run(registry);
+        std::vector<tessera::PassTiming> timings = frame.run(registry, afterPass);
         const double ms = msSince(t);
         if (i < o.warmup) continue;
         runs.passes.push_back(std::move(timings));
         runs.frameMs.push_back(ms);
     }
     return runs;
+}
+
+std::string gCommandLine;  // "tessera render ...", for the manifest
+
+// The manifest's common part: what was rendered and how, the passes with their declared buffers,
+// and --dump-after's snapshots. No times (--stats has them): the same render gives the same file.
+nlohmann::json manifestBase(const tessera::Frame& frame, const FrameRuns& runs, const RenderOptions& o) {
+    nlohmann::json passes = nlohmann::json::array();
+    for (const tessera::Pass& p : frame.passes()) passes.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
+    return {{"tessera", TESSERA_VERSION}, {"command", gCommandLine}, {"passes", passes}, {"after", runs.after},
+            {"exposure", o.exposure}};
 }
 
 double median(std::vector<double> v) {
@@ -421,8 +535,17 @@ int renderBuiltin(const RenderOptions& o) {
     tessera::BufferRegistry registry;
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     tessera::cli::Progress progress(o.progress);
+    checkDumpAfter(frame, o);
     const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; });
-    const std::vector<WrittenFile> written = writeOutputs(registry, o);
+    nlohmann::json manifest = manifestBase(frame, runs, o);
+    manifest["scene"] = "builtin";
+    manifest["technique"] = "builtin";
+    manifest["precision"] = std::string(tessera::precisionName(opt.precision));
+    manifest["width"] = opt.width;
+    manifest["height"] = opt.height;
+    manifest["msaa"] = opt.sampleCount;
+    std::vector<WrittenFile> written = writeOutputs(registry, o, manifest);
+    written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
     progress.finish();
     if (o.stats) {
         printTimings(runs, o, o.repeat > 1);
@@ -494,6 +617,7 @@ int render(const std::vector<std::string_view>& args) {
     ctx.variantCounts = &variantCounts;
     ctx.sceneFile = sceneFile.string();
     const tessera::Frame frame = tessera::buildTechnique(desc.technique, ctx, sceneFile.string());
+    checkDumpAfter(frame, o);
 
     try {
         tessera::BufferRegistry registry;
@@ -502,7 +626,23 @@ int render(const std::vector<std::string_view>& args) {
             variantCounts.clear();
         });
         progress.update("writing " + o.out, 0, 0);
-        const std::vector<WrittenFile> written = writeOutputs(registry, o);
+        nlohmann::json manifest = manifestBase(frame, runs, o);
+        manifest["scene"] = sceneFile.string();
+        manifest["technique"] = desc.technique;
+        manifest["precision"] = std::string(tessera::precisionName(desc.precision));
+        manifest["width"] = desc.width;
+        manifest["height"] = desc.height;
+        manifest["options"] = desc.techniqueOptions.is_null() ? nlohmann::json::object() : desc.techniqueOptions;
+        manifest["lights"] = scene.lights.size();
+        const glm::quat& q = camera.orientationWorld;
+        manifest["camera"] = {{"positionWorld", {camera.positionWorld.x, camera.positionWorld.y, camera.positionWorld.z}},
+                              {"orientationWorld", {q.x, q.y, q.z, q.w}},
+                              {"projection", camera.projection == tessera::ProjectionKind::Perspective ? "perspective" : "orthographic"},
+                              {"fovYDeg", camera.fovYDeg},
+                              {"near", camera.nearZ},
+                              {"far", camera.farZ}};
+        std::vector<WrittenFile> written = writeOutputs(registry, o, manifest);
+        written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
         progress.finish();
         if (o.stats) {
             std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",
@@ -680,6 +820,11 @@ int info(const std::vector<std::string_view>& args) {
 
 int main(int argc, char** argv) {
     std::vector<std::string_view> args(argv + 1, argv + argc);
+    gCommandLine = "tessera";
+    for (const std::string_view a : args) {
+        gCommandLine += ' ';
+        gCommandLine.append(a);
+    }
     try {
         if (args.empty() || args[0] == "--help" || args[0] == "-h" || (args[0] == "help" && args.size() == 1)) {
             std::fputs(kUsage, args.empty() ? stderr : stdout);

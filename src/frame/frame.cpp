@@ -5,7 +5,7 @@
 
 namespace tessera {
 
-std::vector<PassTiming> Frame::run(BufferRegistry& registry) const {
+std::vector<PassTiming> Frame::run(BufferRegistry& registry, const AfterPass& afterPass) const {
     std::vector<PassTiming> timings;
     for (const Pass& pass : mPasses) {
         for (const std::string& r : pass.reads)
@@ -18,6 +18,7 @@ std::vector<PassTiming> Frame::run(BufferRegistry& registry) const {
             if (!registry.contains(w))
                 throw std::logic_error("pass '" + pass.name + "' declares buffer '" + w + "' but did not register it");
         timings.push_back({pass.name, std::chrono::duration<double, std::milli>(stop - start).count()});
+        if (afterPass) afterPass(pass, registry);
     }
     return timings;
 }

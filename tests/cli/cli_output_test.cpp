@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -224,6 +226,15 @@ TEST_CASE("cli: the same render --dump twice, a second apart, writes byte-identi
         tifs += fs::path(name).extension() == ".tif";
         exrs += fs::path(name).extension() == ".exr";
         REQUIRE(second.count(name) == 1);
+        if (fs::path(name).filename() == "manifest.json") {  // equal but for the paths on the command line
+            nlohmann::json a = nlohmann::json::parse(bytes), b = nlohmann::json::parse(second.at(name));
+            for (nlohmann::json* m : {&a, &b}) {
+                CHECK(m->erase("command") == 1);
+                CHECK(m->erase("image") == 1);
+            }
+            CHECK(a == b);
+            continue;
+        }
         CHECK(second.at(name) == bytes);
     }
     CHECK(first.size() == second.size());
@@ -240,7 +251,7 @@ TEST_CASE("cli: --stats prints the FNV-1a 64 hash of every written file, equal t
     REQUIRE(r.exitCode == 0);
     const auto hashes = printedHashes(r.output);
     std::size_t dumped = 0;
-    for (const auto& e : fs::directory_iterator(dump)) dumped += e.is_regular_file();
+    for (const auto& e : fs::recursive_directory_iterator(dump)) dumped += e.is_regular_file();  // views and manifest too
     CHECK(hashes.size() == 1 + dumped);
     REQUIRE(hashes.count(out.string()) == 1);
     for (const auto& entry : hashes) {
@@ -288,4 +299,45 @@ TEST_CASE("cli: deeply nested scene and glTF files and duplicate keys exit 2 ins
             CHECK(r.output.find(c.mentions) != std::string::npos);
         }
     CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("cli: --dump writes manifest.json (passes in order, every buffer with format, decode rule and file), viewable pictures, and --dump-after snapshots") {
+    const fs::path dir = scratch("manifest");
+    fs::remove_all(dir);
+    const Run r = run("render builtin --quiet --width 48 --height 32 --stats --dump " + dir.string() + " --dump-after clear --out " +
+                      (dir.parent_path() / "manifest.png").string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    std::ifstream in(dir / "manifest.json");
+    REQUIRE(in);
+    const nlohmann::json m = nlohmann::json::parse(in);
+    CHECK(m["scene"] == "builtin");
+    CHECK(m["command"].get<std::string>().find("render builtin") != std::string::npos);
+    // Passes in the order --stats prints them.
+    std::size_t at = 0;
+    for (const auto& p : m["passes"]) {
+        const std::size_t found = r.output.find("pass " + p["name"].get<std::string>(), at);
+        CHECK_MESSAGE(found != std::string::npos, p["name"]);
+        at = found;
+    }
+    int views = 0;
+    for (const auto& b : m["buffers"]) {
+        CAPTURE(b.dump());
+        CHECK(fs::exists(dir / b["file"].get<std::string>()));
+        CHECK(!b["decode"].get<std::string>().empty());
+        if (b.contains("stencilFile")) CHECK(fs::exists(dir / b["stencilFile"].get<std::string>()));
+        if (b.contains("views"))
+            for (const auto& v : b["views"]) {
+                CHECK(fs::exists(dir / v["file"].get<std::string>()));
+                ++views;
+            }
+    }
+    CHECK(views >= 2);  // depth and stencil at least
+    REQUIRE(m["after"].contains("clear"));
+    for (const auto& b : m["after"]["clear"]["buffers"]) CHECK(fs::exists(dir / "after-clear" / b["file"].get<std::string>()));
+    const Run bad = run("render builtin --width 16 --height 16 --dump " + dir.string() + " --dump-after nosuchpass --out " +
+                        (dir.parent_path() / "manifest.png").string());
+    CHECK(bad.exitCode == 2);
+    CHECK(bad.output.find("no pass 'nosuchpass' (its passes: ") != std::string::npos);
+    CHECK(run("render builtin --dump-after clear").exitCode == 2);
 }

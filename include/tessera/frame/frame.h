@@ -32,8 +32,10 @@ public:
         return *this;
     }
     const std::vector<Pass>& passes() const { return mPasses; }
+    // Called after each pass with the registry as that pass left it (outside the pass's time).
+    using AfterPass = std::function<void(const Pass&, const BufferRegistry&)>;
     // Runs every pass in order; throws std::logic_error on a broken declaration.
-    std::vector<PassTiming> run(BufferRegistry& registry) const;
+    std::vector<PassTiming> run(BufferRegistry& registry, const AfterPass& afterPass = {}) const;
 
 private:
     std::vector<Pass> mPasses;

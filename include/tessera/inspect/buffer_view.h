@@ -1,0 +1,40 @@
+// Viewable companions of dumped buffers: an R8G8B8A8_UNORM picture of any named buffer that a
+// person can open in an image viewer (a D24 depth buffer spans 0.96-1.0, a stencil count peaks
+// at 3 of 255, a light grid holds raw integers: stored as they are, they look blank), and the
+// rule that made it, for the dump's manifest. The stored buffers stay the exact record.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <tessera/buffers/surface.h>
+
+namespace tessera {
+
+struct BufferView {
+    Surface image;     // R8G8B8A8_UNORM, opaque; a colour bar below the buffer where `rule` says so
+    std::string rule;  // how a pixel of `image` reads, in one line
+};
+
+enum class ViewChannel : std::uint8_t { Depth, Stencil };
+
+// The picture of `surface` (sample 0), chosen by format and name:
+//  - depth (ViewChannel::Depth of a depth format): covered depths (< 1) stretched over their
+//    [min, max], near white and far dark grey, the cleared 1.0 black;
+//  - stencil (ViewChannel::Stencil): 0 black, each other value its own colour of a fixed
+//    12-colour palette (value mod 12), a legend bar of 0..max below;
+//  - UINT: a heat ramp from black (0) through blue, green, yellow to white (the buffer's max),
+//    with a colour bar; for "lightgrid*" buffers (offset, count) the count, else channel 0;
+//  - float / SNORM / packed formats: names containing "normal" as n * 0.5 + 0.5, others
+//    rgb * exposure clamped to [0, 1] (one channel as grey);
+//  - R8G8B8A8 formats: nullopt (the dump is already viewable).
+std::optional<BufferView> viewBuffer(std::string_view name, const Surface& surface, ViewChannel channel = ViewChannel::Depth,
+                                     float exposure = 1.0f);
+
+// The heat ramp of viewBuffer for t in [0, 1] (0 black, 1 white), as 8-bit RGB in one word
+// (R in the low byte).
+std::uint32_t heatColor(float t);
+
+} // namespace tessera
