@@ -8,6 +8,8 @@
 #include <string>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 namespace {
 
 struct Run {
@@ -373,4 +375,36 @@ TEST_CASE("cli: --scalar-raster writes the same bytes as the SIMD blocks, --stat
     CHECK(r.exitCode == 2);
     CHECK(r.output.find("--no-output and --out") != std::string::npos);
     CHECK(!std::filesystem::exists(none));
+}
+
+TEST_CASE("cli: diff prints mean abs, the float32 ULP distance of float files, and writes a heat map of the difference") {
+    const auto dir = scratch("diffulp");
+    std::filesystem::remove_all(dir);
+    const auto out = scratch("diffulp.exr");
+    REQUIRE(run("render builtin --precision reference --width 64 --height 36 --quiet --dump " + dir.string() + " --out " +
+                out.string()).exitCode == 0);
+    const auto reference = dir / "backbuffer.reference.exr";
+    const auto heat = scratch("diffulp-heat.png");
+    std::filesystem::remove(heat);
+    const Run r = run("diff " + out.string() + " " + reference.string() + " --ignore-alpha --json --heatmap " + heat.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    // The exact back buffer is the shading rounded to 8-bit codes (<= 0.5 code from the float it
+    // rounds), computed in float where the reference is double: the two stay within one code, and
+    // no channel keeps the same float32 bits (a code / 255 is rarely the reference's value).
+    CHECK(j["max_abs"].get<double>() > 0.0);
+    CHECK(j["max_abs"].get<double>() < 1.0);
+    CHECK(j["mean_abs"].get<double>() > 0.0);
+    CHECK(j["mean_abs"].get<double>() <= j["max_abs"].get<double>());
+    CHECK(j["max_ulp"].get<std::uint64_t>() > 0);
+    CHECK(std::filesystem::file_size(heat) > 0);
+    const Run self = run("diff " + reference.string() + " " + reference.string() + " --json");
+    const nlohmann::json s = nlohmann::json::parse(self.output);
+    CHECK(s["max_ulp"] == 0);
+    CHECK(s["mean_abs"] == 0.0);
+    // 8-bit files have no ULP figure.
+    const Run png = run("diff " + (dir / "backbuffer.png").string() + " " + (dir / "backbuffer.png").string() + " --json");
+    CHECK(nlohmann::json::parse(png.output)["max_ulp"].is_null());
+    CHECK(run("diff a.png b.png --heatmap x.jpg").exitCode == 2);
 }
