@@ -26,6 +26,7 @@
 #include <tessera/io/image_writer.h>
 #include <tessera/io/input_error.h>
 #include <tessera/io/json_depth.h>
+#include <tessera/scene/default_lights.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/option_catalog.h>
@@ -90,6 +91,8 @@ options:
                     prints each pass's and the frame's median over the N runs; the last run is written
   --warmup K        render K untimed frames before the N timed ones, 0..100000 (default 0)
   --no-output       render but write no file (timing and --stats only); not with --out or --dump
+  --no-default-lights  a scene without any light stays unlit under a lighting technique (by default
+                    it gets a key and a fill point light from the camera, announced on stderr)
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
@@ -199,7 +202,7 @@ struct RenderOptions {
     tessera::DeviceConfig device;
     std::uint32_t msaa = 1;
     std::uint32_t repeat = 1, warmup = 0;
-    bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false;
+    bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false, noDefaultLights = false;
     tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
 };
 
@@ -240,6 +243,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             o.outGiven = true;
         } else if (a == "--no-output") o.noOutput = true;
         else if (a == "--scalar-raster") o.device.simdBlocks = false;
+        else if (a == "--no-default-lights") o.noDefaultLights = true;
         else if (a == "--exr") {
             o.exrTypeGiven = true;
             const std::string_view t = value();
@@ -594,7 +598,16 @@ int render(const std::vector<std::string_view>& args) {
     }
     progress.update("loading " + sceneFile.filename().string(), 0, 0);
     tessera::Camera camera;
-    const tessera::Scene scene = tessera::loadScene(desc, true, &camera);
+    tessera::Scene scene = tessera::loadScene(desc, true, &camera);
+    // A scene with no lights at all gets the default rig under a lighting technique (preview has
+    // its own head light), announced, unless --no-default-lights.
+    if (scene.lights.empty() && desc.technique != "preview" && !o.noDefaultLights) {
+        scene.lights = tessera::defaultLightRig(scene.bounds(), camera);
+        if (!scene.lights.empty() && !o.quiet)
+            std::fprintf(stderr, "tessera: note: %s has no lights; shading with the default rig (a key and a fill point "
+                                 "light from the camera, README \"Scenes\"); --no-default-lights turns it off\n",
+                         sceneFile.string().c_str());
+    }
     const double loadMs = msSince(t0);
     const auto t1 = Clock::now();
     const tessera::SceneResources resources(

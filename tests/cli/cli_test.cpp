@@ -408,3 +408,20 @@ TEST_CASE("cli: diff prints mean abs, the float32 ULP distance of float files, a
     CHECK(nlohmann::json::parse(png.output)["max_ulp"].is_null());
     CHECK(run("diff a.png b.png --heatmap x.jpg").exitCode == 2);
 }
+
+TEST_CASE("cli: a glTF file without lights gets the default rig under a lighting technique, announced; --no-default-lights keeps it dark") {
+    const std::string gltf = std::string(TESSERA_SOURCE_DIR) + "/scenes/khronos/BoxTextured/glTF/BoxTextured.gltf";
+    const auto lit = scratch("rig-lit.png"), dark = scratch("rig-dark.png");
+    const Run a = run("render " + gltf + " --technique forward --width 64 --height 36 --out " + lit.string());
+    INFO(a.output);
+    REQUIRE(a.exitCode == 0);
+    CHECK(a.output.find("has no lights; shading with the default rig") != std::string::npos);
+    const Run b = run("render " + gltf + " --technique forward --width 64 --height 36 --no-default-lights --out " + dark.string());
+    REQUIRE(b.exitCode == 0);
+    CHECK(b.output.find("default rig") == std::string::npos);
+    const nlohmann::json d = nlohmann::json::parse(run("diff " + lit.string() + " " + dark.string() + " --json").output);
+    CHECK(d["differing_pixels"].get<std::uint64_t>() > 100);  // the box is lit, not ambient-only
+    // The preview technique has its own head light: no rig, no note.
+    CHECK(run("render " + gltf + " --width 32 --height 18 --out " + scratch("rig-preview.png").string()).output.find("default rig") ==
+          std::string::npos);
+}
