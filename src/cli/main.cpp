@@ -86,6 +86,9 @@ options:
                     camera, options, command line)
   --dump-after PASS[,PASS]  with --dump: also the buffers as they stand after each named pass, in
                     DIR/after-<PASS>/ (the pass names are `pass` lines of --stats)
+  --dump-lights I[,J]  with --dump, deferred and deferred-killzone: also the buffers after each step of
+                    light I (scene order, from 0): DIR/light-I-unmark/ and DIR/light-I-shade/ (Killzone:
+                    -mark, -count, -shade), so the stencil can be watched being marked and cleared
   --exposure E      scale of float colour buffers in DIR/view/ (default 1)
   --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
                     prints each pass's and the frame's median over the N runs; the last run is written
@@ -193,6 +196,7 @@ struct RenderOptions {
     std::string out = "tessera.png";
     std::string dumpDir;
     std::vector<std::string> dumpAfter;  // pass names
+    std::vector<std::uint32_t> dumpLights;  // light indices
     float exposure = 1.0f;
     tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
     std::uint32_t width = 0, height = 0;  // 0: the scene's
@@ -276,6 +280,13 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
                 o.dumpAfter.push_back(list.substr(start, comma - start));
                 start = comma + 1;
             }
+        } else if (a == "--dump-lights") {
+            const std::string list(value());
+            for (std::size_t start = 0; start <= list.size();) {
+                const std::size_t comma = std::min(list.find(',', start), list.size());
+                o.dumpLights.push_back(parseUint("--dump-lights", std::string_view(list).substr(start, comma - start), 0, 999999));
+                start = comma + 1;
+            }
         } else if (a == "--exposure") {
             const std::string text(value());
             char* end = nullptr;
@@ -297,6 +308,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
     if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
+    if (!o.dumpLights.empty() && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
+    if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
@@ -584,6 +597,9 @@ int render(const std::vector<std::string_view>& args) {
         if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
     }
     applyOptionArgs(o, desc.technique, desc.techniqueOptions);
+    if (!o.dumpLights.empty() && desc.technique != "deferred" && desc.technique != "deferred-killzone")
+        throw UsageError("--dump-lights: " + desc.technique +
+                         " does not shade light by light (deferred and deferred-killzone do); --dump-after shows its passes");
     if (o.width) desc.width = o.width;
     if (o.height) desc.height = o.height;
     if (o.precision) desc.precision = *o.precision;
@@ -629,12 +645,31 @@ int render(const std::vector<std::string_view>& args) {
     std::map<std::string, std::uint64_t> variantCounts;
     ctx.variantCounts = &variantCounts;
     ctx.sceneFile = sceneFile.string();
+    // --dump-lights: the chosen lights' steps, written during the last (written) run only.
+    for (const std::uint32_t light : o.dumpLights)
+        if (light >= scene.lights.size())
+            throw UsageError("--dump-lights: light " + std::to_string(light) + " does not exist (" + sceneFile.string() + " has " +
+                             std::to_string(scene.lights.size()) + " lights, 0.." +
+                             std::to_string(scene.lights.size() == 0 ? 0 : scene.lights.size() - 1) + ")");
+    std::uint32_t runsStarted = 0;
+    std::vector<WrittenFile> lightWritten;
+    nlohmann::json lightSteps = nlohmann::json::object();
+    if (!o.dumpLights.empty())
+        ctx.afterLightStep = [&](std::size_t light, std::string_view step, const tessera::BufferRegistry& now) {
+            if (runsStarted != o.warmup + o.repeat) return;
+            if (std::find(o.dumpLights.begin(), o.dumpLights.end(), light) == o.dumpLights.end()) return;
+            const std::string folder = "light-" + std::to_string(light) + "-" + std::string(step);
+            nlohmann::json buffers = nlohmann::json::array();
+            dumpRegistry(now, fs::path(o.dumpDir) / folder, o, true, lightWritten, buffers);
+            lightSteps[std::to_string(light)][std::string(step)] = {{"folder", folder}, {"buffers", buffers}};
+        };
     const tessera::Frame frame = tessera::buildTechnique(desc.technique, ctx, sceneFile.string());
     checkDumpAfter(frame, o);
 
     try {
         tessera::BufferRegistry registry;
         const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering " + desc.technique, [&] {
+            ++runsStarted;
             drawStats = {};
             variantCounts.clear();
         });
@@ -654,8 +689,10 @@ int render(const std::vector<std::string_view>& args) {
                               {"fovYDeg", camera.fovYDeg},
                               {"near", camera.nearZ},
                               {"far", camera.farZ}};
+        if (!o.dumpLights.empty()) manifest["lightSteps"] = lightSteps;
         std::vector<WrittenFile> written = writeOutputs(registry, o, manifest);
         written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
+        written.insert(written.begin(), lightWritten.begin(), lightWritten.end());
         progress.finish();
         if (o.stats) {
             std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",

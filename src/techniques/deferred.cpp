@@ -266,6 +266,7 @@ struct DeferredSetup {
     LightingInputs inputs;           // bound after the G-buffer pass
     std::string accumulationName;    // RT0
     bool separateAccumulation = false;
+    std::function<void(std::size_t, std::string_view, const BufferRegistry&)> afterLightStep;  // TechniqueContext's
 };
 
 std::uint64_t optionThreshold(const nlohmann::json& options, const std::string& file) {
@@ -391,6 +392,9 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         ++(*variantCounts)[name];
     };
     StencilClears stencil(depth);
+    const auto stepDone = [&](std::size_t light, std::string_view step) {
+        if (setup.afterLightStep) setup.afterLightStep(light, step, reg);
+    };
     for (std::size_t i = 0; i < setup.lightsWorld.size(); ++i) {
         const Light& light = setup.lightsWorld[i];
         if (!light.enabled) continue;  // the demo draws no volume for a disabled light
@@ -404,16 +408,20 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
             stencil.clear(setup.method == Method::Killzone ? kKillzoneStencilClear : kDeferredStencilClear);
             stencil.drew(drawLightGeometry(setup, device, kDeferredDirectionalPass, shadeTargets, light, &ps, nullptr, stats));
             count("light:", light);
+            stepDone(i, "shade");
             continue;
         }
         if (setup.method == Method::Dgep) {
             stencil.clear(kDeferredStencilClear);
             stencil.drew(drawLightGeometry<PS>(setup, device, kDeferredUnmarkPass, depthOnly, light, nullptr, nullptr, stats));
+            stepDone(i, "unmark");
             stencil.drew(drawLightGeometry(setup, device, kDeferredShadePass, shadeTargets, light, &ps, nullptr, stats));
             count("light:", light);
+            stepDone(i, "shade");
         } else {
             stencil.clear(kKillzoneStencilClear);
             stencil.drew(drawLightGeometry<PS>(setup, device, kKillzoneMarkPass, depthOnly, light, nullptr, nullptr, stats));
+            stepDone(i, "mark");
             OcclusionQuery query;
             query.begin();
             stencil.drew(drawLightGeometry<PS>(setup, device, kKillzoneCountPass, depthOnly, light, nullptr, &query, stats));
@@ -422,9 +430,11 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
             const std::uint32_t stored = std::uint32_t(std::min<std::uint64_t>(passed, kKillzoneNotCounted - 1u));
             encodeTexelUint(Format::R32_UINT, glm::uvec4(stored, 0u, 0u, 1u),
                             samples->texel(std::uint32_t(i % kSamplesRow), std::uint32_t(i / kSamplesRow)));
+            stepDone(i, "count");
             if (killzoneShouldShade(passed, setup.options.threshold)) {
                 stencil.drew(drawLightGeometry(setup, device, kKillzoneShadePass, shadeTargets, light, &ps, nullptr, stats));
                 count("light:", light);
+                stepDone(i, "shade");
             } else {
                 count("killzone-skipped:", light);
             }
@@ -437,6 +447,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     auto setup = std::make_shared<DeferredSetup>();
     setup->method = method;
     setup->options = parseOptions(ctx, method, file);
+    setup->afterLightStep = ctx.afterLightStep;
     const DeferredOptions& opt = setup->options;
     setup->forward = makeForwardPassSetup(ctx, opt.projection, opt.sampler, opt.alphaTest);
     setup->lightsWorld = ctx.resources->scene().lights;

@@ -341,3 +341,37 @@ TEST_CASE("cli: --dump writes manifest.json (passes in order, every buffer with 
     CHECK(bad.output.find("no pass 'nosuchpass' (its passes: ") != std::string::npos);
     CHECK(run("render builtin --dump-after clear").exitCode == 2);
 }
+
+TEST_CASE("cli: --dump-lights writes deferred's buffers after each step of the chosen lights, and refuses what cannot work") {
+    const fs::path dir = scratch("lights");
+    fs::remove_all(dir);
+    const std::string out = " --out " + (dir.parent_path() / "lights.png").string();
+    const Run r = run("render default --technique deferred --width 64 --height 36 --quiet --dump " + dir.string() +
+                      " --dump-lights 3,0" + out);
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    // Light 3 is a point light (unmark + shade), light 0 the directional one (shade only).
+    for (const char* folder : {"light-3-unmark", "light-3-shade", "light-0-shade"}) {
+        CAPTURE(folder);
+        CHECK(fs::exists(dir / folder / "depth.stencil.png"));
+        CHECK(fs::exists(dir / folder / "view" / "depth.stencil.png"));
+    }
+    CHECK_FALSE(fs::exists(dir / "light-0-unmark"));
+    CHECK_FALSE(fs::exists(dir / "light-1-shade"));
+    std::ifstream in(dir / "manifest.json");
+    const nlohmann::json m = nlohmann::json::parse(in);
+    CHECK(m["lightSteps"]["3"]["unmark"]["folder"] == "light-3-unmark");
+    struct Case { std::string args, mentions; };
+    const Case cases[] = {
+        {"render default --technique deferred --dump " + dir.string() + " --dump-lights 99" + out, "light 99 does not exist"},
+        {"render default --technique forward --dump " + dir.string() + " --dump-lights 0" + out, "does not shade light by light"},
+        {"render default --technique deferred --dump-lights 0" + out, "--dump-lights needs --dump DIR"},
+        {"render default --technique deferred --dump " + dir.string() + " --dump-lights 1,x" + out, "--dump-lights: 'x'"},
+    };
+    for (const Case& c : cases) {
+        const Run e = run(c.args);
+        INFO(c.args << " -> " << e.output);
+        CHECK(e.exitCode == 2);
+        CHECK(e.output.find(c.mentions) != std::string::npos);
+    }
+}

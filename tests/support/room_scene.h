@@ -102,7 +102,8 @@ struct Rendered {
 };
 
 inline void render(const TestScene& t, const std::string& technique, const nlohmann::json& options, Rendered& out,
-                   Precision precision = Precision::Exact, std::uint32_t threads = 2, glm::uvec2 sizePx = {kWidth, kHeight}) {
+                   Precision precision = Precision::Exact, std::uint32_t threads = 2, glm::uvec2 sizePx = {kWidth, kHeight},
+                   decltype(TechniqueContext::afterLightStep) afterLightStep = {}) {
     const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
     Device device(DeviceConfig{32, threads});
     TechniqueContext ctx;
@@ -115,6 +116,7 @@ inline void render(const TestScene& t, const std::string& technique, const nlohm
     ctx.precision = precision;
     ctx.variantCounts = &out.variants;
     ctx.sceneFile = "memory.json";
+    ctx.afterLightStep = std::move(afterLightStep);
     buildTechnique(technique, ctx, ctx.sceneFile).run(out.registry);
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <string>
 
@@ -269,4 +270,47 @@ TEST_CASE("deferred: G-buffer formats and buffers per option") {
     // demo target, unpacked in the float one. Pixel (64, 20) lies on the wall.
     CHECK(std::to_integer<int>(demo.registry.get("gbuffer.specular").texel(64, 20)[3]) ==
           int(std::lround(std::log2(flt.registry.get("gbuffer.specular").load(64, 20).w) / 10.5 * 255.0)));
+}
+
+TEST_CASE("deferred: per-light steps: a light's shade pass changes no pixel its unmark pass cleared, lights some it kept, and the last step is the frame") {
+    // The buffers after each step of every light (TechniqueContext::afterLightStep, what
+    // --dump-lights writes): the stencil after "unmark" and the back buffer before and after "shade".
+    const test::TestScene t = test::makeScene(test::defaultLights());
+    struct Step {
+        std::size_t light;
+        std::string step;
+        Surface stencilDepth, back;
+    };
+    std::vector<Step> steps;
+    test::Rendered r;
+    test::render(t, "deferred", {}, r, Precision::Exact, 2, {test::kWidth, test::kHeight},
+                 [&](std::size_t light, std::string_view step, const BufferRegistry& reg) {
+                     steps.push_back({light, std::string(step), *reg.find("depth"), *reg.find(kBackBufferName)});
+                 });
+    // Lights 0, 1, 3 are volumes (unmark + shade), 2 is directional (shade only): 7 steps in order.
+    REQUIRE(steps.size() == 7);
+    CHECK(steps[4].light == 2);
+    CHECK(steps[4].step == "shade");
+    std::size_t unmarkedSomewhere = 0, litSomewhere = 0;
+    for (std::size_t i = 0; i + 1 < steps.size(); ++i) {
+        if (steps[i].step != "unmark") continue;
+        const Step& unmark = steps[i];
+        const Step& shade = steps[i + 1];
+        REQUIRE(shade.light == unmark.light);
+        REQUIRE(shade.step == "shade");
+        for (std::uint32_t y = 0; y < test::kHeight; ++y)
+            for (std::uint32_t x = 0; x < test::kWidth; ++x) {
+                const bool same = std::memcmp(unmark.back.texel(x, y), shade.back.texel(x, y), 4) == 0;
+                if (unmark.stencilDepth.loadStencil(x, y) == 0) {
+                    ++unmarkedSomewhere;
+                    CHECK_MESSAGE(same, "light " << unmark.light << " shaded unmarked pixel " << x << "," << y);
+                } else if (!same) {
+                    ++litSomewhere;
+                }
+            }
+    }
+    CHECK(unmarkedSomewhere > 0);  // the test sees both kinds of pixel
+    CHECK(litSomewhere > 0);
+    // The last step's buffers are the frame's.
+    CHECK(std::memcmp(steps.back().back.bytes().data(), r.back().bytes().data(), r.back().bytes().size()) == 0);
 }

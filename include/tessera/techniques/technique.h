@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -30,6 +31,11 @@ struct TechniqueContext {
     // Draws per shader variant ("exact:diffuse+normal", ...), for --stats; may be null.
     std::map<std::string, std::uint64_t>* variantCounts = nullptr;
     std::string sceneFile;                     // named in the InputErrors of option values
+    // Per-light techniques (deferred, deferred-killzone) call this after each step of every light
+    // (light index in scene order; "unmark" and "shade", or Killzone's "mark", "count", "shade")
+    // with the registry as the step left it, so the stencil trick can be watched (--dump-lights).
+    // Empty: no calls.
+    std::function<void(std::size_t light, std::string_view step, const BufferRegistry& registry)> afterLightStep;
 
     // The file InputErrors name: sceneFile, or "scene" for an in-memory scene.
     std::string errorFile() const { return sceneFile.empty() ? std::string("scene") : sceneFile; }
