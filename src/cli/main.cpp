@@ -3,6 +3,7 @@
 // lists each technique's options; `info` describes a scene; `diff` compares two images (diff.cpp).
 // Exit codes: 0 success, 1 failure while rendering, 2 bad usage or bad input.
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <chrono>
@@ -34,6 +35,7 @@
 
 #include <tessera/techniques/builtin_scene.h>
 #include "diff.h"
+#include <tessera/inspect/pixel_history.h>
 #include "progress.h"
 
 namespace {
@@ -49,6 +51,7 @@ commands:
   list            list techniques and bundled scenes
   options [TECH]  list the options of every technique (or of TECH): values, faithful default,
                   correction, erratum
+  probe SCENE X Y the history of one pixel through the frame (render's flags apply; --json)
   info SCENE      describe a scene: triangles, materials, lights, bounds, memory
   diff A B        compare two images: max abs difference, RMSE, PSNR, differing pixels
   help [COMMAND]  show this text, or the command's options
@@ -90,6 +93,10 @@ options:
                     light I (scene order, from 0): DIR/light-I-unmark/ and DIR/light-I-shade/ (Killzone:
                     -mark, -count, -shade), so the stencil can be watched being marked and cleared
   --exposure E      scale of float colour buffers in DIR/view/ (default 1)
+  --probe X,Y       print the history of window pixel (X, Y): every buffer's value there after each
+                    pass (and each light step of deferred) where it changed, and for the tiled
+                    techniques the pixel's tile, depth range, frustum planes and light list
+  --json            with --probe: the history as one JSON object
   --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
                     prints each pass's and the frame's median over the N runs; the last run is written
   --warmup K        render K untimed frames before the N timed ones, 0..100000 (default 0)
@@ -198,6 +205,8 @@ struct RenderOptions {
     std::vector<std::string> dumpAfter;  // pass names
     std::vector<std::uint32_t> dumpLights;  // light indices
     float exposure = 1.0f;
+    std::optional<std::array<std::uint32_t, 2>> probe;  // --probe X,Y: window px
+    bool probeJson = false;
     tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
     std::uint32_t width = 0, height = 0;  // 0: the scene's
     std::optional<tessera::Precision> precision;
@@ -287,6 +296,14 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
                 o.dumpLights.push_back(parseUint("--dump-lights", std::string_view(list).substr(start, comma - start), 0, 999999));
                 start = comma + 1;
             }
+        } else if (a == "--probe") {
+            const std::string text(value());
+            const std::size_t comma = text.find(',');
+            if (comma == std::string::npos) throw UsageError("--probe: '" + text + "' is not X,Y (window pixels)");
+            o.probe = std::array<std::uint32_t, 2>{parseUint("--probe", std::string_view(text).substr(0, comma), 0, tessera::kMaxSurfaceDimension - 1),
+                                                   parseUint("--probe", std::string_view(text).substr(comma + 1), 0, tessera::kMaxSurfaceDimension - 1)};
+        } else if (a == "--json") {
+            o.probeJson = true;
         } else if (a == "--exposure") {
             const std::string text(value());
             char* end = nullptr;
@@ -309,6 +326,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
     if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
     if (!o.dumpLights.empty() && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
+    if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
     if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
@@ -466,7 +484,8 @@ void checkDumpAfter(const tessera::Frame& frame, const RenderOptions& o) {
 
 template <class BeforeRun>
 FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& registry, const RenderOptions& o,
-                    tessera::cli::Progress& progress, const std::string& label, BeforeRun beforeRun) {
+                    tessera::cli::Progress& progress, const std::string& label, BeforeRun beforeRun,
+                    tessera::PixelHistory* history = nullptr) {
     FrameRuns runs;
     const std::uint32_t total = o.warmup + o.repeat;
     for (std::uint32_t i = 0; i < total; ++i) {
@@ -475,9 +494,11 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
         beforeRun();
         registry = tessera::BufferRegistry{};
         // The last run (the one written) also writes the buffers after the passes --dump-after names.
+        // --probe records the pixel after every pass of the same run.
         tessera::Frame::AfterPass afterPass;
-        if (i + 1 == total && !o.dumpAfter.empty())
+        if (i + 1 == total && (!o.dumpAfter.empty() || history))
             afterPass = [&](const tessera::Pass& pass, const tessera::BufferRegistry& now) {
+                if (history) history->record(pass.name, now);
                 if (std::find(o.dumpAfter.begin(), o.dumpAfter.end(), pass.name) == o.dumpAfter.end()) return;
                 nlohmann::json buffers = nlohmann::json::array();
                 dumpRegistry(now, fs::path(o.dumpDir) / ("after-" + pass.name), o, true, runs.afterWritten, buffers);
@@ -553,7 +574,15 @@ int renderBuiltin(const RenderOptions& o) {
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     tessera::cli::Progress progress(o.progress);
     checkDumpAfter(frame, o);
-    const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; });
+    std::optional<tessera::PixelHistory> history;
+    if (o.probe) {
+        if ((*o.probe)[0] >= opt.width || (*o.probe)[1] >= opt.height)
+            throw UsageError("--probe: (" + std::to_string((*o.probe)[0]) + ", " + std::to_string((*o.probe)[1]) + ") is outside the " +
+                             std::to_string(opt.width) + "x" + std::to_string(opt.height) + " frame");
+        history.emplace((*o.probe)[0], (*o.probe)[1]);
+    }
+    const FrameRuns runs =
+        runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; }, history ? &*history : nullptr);
     nlohmann::json manifest = manifestBase(frame, runs, o);
     manifest["scene"] = "builtin";
     manifest["technique"] = "builtin";
@@ -570,8 +599,18 @@ int renderBuiltin(const RenderOptions& o) {
         printPeakMemory();
         printHashes(written);
     }
-    if (!o.quiet && o.noOutput) std::printf("rendered %ux%u, nothing written (--no-output)\n", opt.width, opt.height);
-    else if (!o.quiet) std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
+    if (history) {
+        if (o.probeJson)
+            std::printf("%s\n", nlohmann::json{{"pixel", {(*o.probe)[0], (*o.probe)[1]}}, {"technique", "builtin"},
+                                               {"events", history->events()}, {"final", history->last()}, {"tile", nullptr}}
+                                   .dump()
+                                   .c_str());
+        else std::fputs(history->text().c_str(), stdout);
+    }
+    if (o.quiet || o.probeJson) {
+        // nothing more: --json prints one JSON object
+    } else if (o.noOutput) std::printf("rendered %ux%u, nothing written (--no-output)\n", opt.width, opt.height);
+    else std::printf("wrote %s (%ux%u)\n", o.out.c_str(), opt.width, opt.height);
     return 0;
 }
 
@@ -654,9 +693,17 @@ int render(const std::vector<std::string_view>& args) {
     std::uint32_t runsStarted = 0;
     std::vector<WrittenFile> lightWritten;
     nlohmann::json lightSteps = nlohmann::json::object();
-    if (!o.dumpLights.empty())
+    std::optional<tessera::PixelHistory> history;
+    if (o.probe) {
+        if ((*o.probe)[0] >= desc.width || (*o.probe)[1] >= desc.height)
+            throw UsageError("--probe: (" + std::to_string((*o.probe)[0]) + ", " + std::to_string((*o.probe)[1]) + ") is outside the " +
+                             std::to_string(desc.width) + "x" + std::to_string(desc.height) + " frame");
+        history.emplace((*o.probe)[0], (*o.probe)[1]);
+    }
+    if (!o.dumpLights.empty() || history)
         ctx.afterLightStep = [&](std::size_t light, std::string_view step, const tessera::BufferRegistry& now) {
             if (runsStarted != o.warmup + o.repeat) return;
+            if (history) history->record("lights", now, static_cast<long long>(light), step);
             if (std::find(o.dumpLights.begin(), o.dumpLights.end(), light) == o.dumpLights.end()) return;
             const std::string folder = "light-" + std::to_string(light) + "-" + std::string(step);
             nlohmann::json buffers = nlohmann::json::array();
@@ -672,7 +719,7 @@ int render(const std::vector<std::string_view>& args) {
             ++runsStarted;
             drawStats = {};
             variantCounts.clear();
-        });
+        }, history ? &*history : nullptr);
         progress.update("writing " + o.out, 0, 0);
         nlohmann::json manifest = manifestBase(frame, runs, o);
         manifest["scene"] = sceneFile.string();
@@ -709,9 +756,26 @@ int render(const std::vector<std::string_view>& args) {
                 std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
             printHashes(written);
         }
-        if (!o.quiet && o.noOutput)
+        if (history) {
+            // The tile the pixel's light list comes from: the technique's tile edge.
+            std::uint32_t tileSizePx = desc.technique == "forward-plus-amd" ? 8u : 16u;
+            if (desc.techniqueOptions.is_object() && desc.techniqueOptions.contains("tileSize") &&
+                desc.techniqueOptions["tileSize"].is_number_unsigned())
+                tileSizePx = desc.techniqueOptions["tileSize"].get<std::uint32_t>();
+            history->addTileInfo(registry, tileSizePx);
+            if (o.probeJson) {
+                const nlohmann::json j{{"pixel", {(*o.probe)[0], (*o.probe)[1]}}, {"technique", desc.technique},
+                                       {"events", history->events()}, {"final", history->last()}, {"tile", history->tile()}};
+                std::printf("%s\n", j.dump().c_str());
+            } else {
+                std::fputs(history->text().c_str(), stdout);
+            }
+        }
+        if (o.quiet || o.probeJson) {
+            // nothing more: --json prints one JSON object
+        } else if (o.noOutput)
             std::printf("rendered %ux%u with %s, nothing written (--no-output)\n", desc.width, desc.height, desc.technique.c_str());
-        else if (!o.quiet)
+        else
             std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;
     } catch (const std::exception& e) {
@@ -892,13 +956,26 @@ int main(int argc, char** argv) {
         if (args[0] == "render") return render(rest);
         if (args[0] == "list") return list(rest);
         if (args[0] == "options") return options(rest);
+        if (args[0] == "probe") {  // probe SCENE X Y [flags] = render SCENE --probe X,Y [--no-output] [flags]
+            if (rest.size() == 1 && (rest[0] == "--help" || rest[0] == "-h")) return render(rest);
+            if (rest.size() < 3) throw UsageError("probe needs SCENE X Y (window pixels)");
+            const std::string xy = std::string(rest[1]) + "," + std::string(rest[2]);
+            std::vector<std::string_view> renderArgs{rest[0], "--probe", xy};
+            bool writes = false;
+            for (std::size_t i = 3; i < rest.size(); ++i) {
+                writes = writes || rest[i] == "--out" || rest[i] == "--dump";
+                renderArgs.push_back(rest[i]);
+            }
+            if (!writes) renderArgs.push_back("--no-output");
+            return render(renderArgs);
+        }
         if (args[0] == "info") return info(rest);
         if (args[0] == "diff") return tessera::cli::diffCommand(rest);
         std::fprintf(stderr, "tessera: unknown command '%s'\n%s", std::string(args[0]).c_str(), kUsage);
         return 2;
     } catch (const UsageError& e) {
         // The command's own help names its options; the top-level usage would bury the message.
-        const bool known = !args.empty() && (args[0] == "render" || args[0] == "list" || args[0] == "options" ||
+        const bool known = !args.empty() && (args[0] == "render" || args[0] == "list" || args[0] == "options" || args[0] == "probe" ||
                                              args[0] == "info" || args[0] == "diff");
         if (known) std::fprintf(stderr, "tessera: %s\n(see `tessera help %s`)\n", e.what(), std::string(args[0]).c_str());
         else std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);

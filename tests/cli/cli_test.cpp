@@ -409,7 +409,7 @@ TEST_CASE("cli: diff prints mean abs, the float32 ULP distance of float files, a
     CHECK(run("diff a.png b.png --heatmap x.jpg").exitCode == 2);
 }
 
-TEST_CASE("cli: a glTF file without lights gets the default rig under a lighting technique, announced; --no-default-lights keeps it dark") {
+TEST_CASE("cli: a glTF file without lights gets the default rig under a lighting technique, announced, and --no-default-lights keeps it dark") {
     const std::string gltf = std::string(TESSERA_SOURCE_DIR) + "/scenes/khronos/BoxTextured/glTF/BoxTextured.gltf";
     const auto lit = scratch("rig-lit.png"), dark = scratch("rig-dark.png");
     const Run a = run("render " + gltf + " --technique forward --width 64 --height 36 --out " + lit.string());
@@ -424,4 +424,26 @@ TEST_CASE("cli: a glTF file without lights gets the default rig under a lighting
     // The preview technique has its own head light: no rig, no note.
     CHECK(run("render " + gltf + " --width 32 --height 18 --out " + scratch("rig-preview.png").string()).output.find("default rig") ==
           std::string::npos);
+}
+
+TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and its lights for tiled techniques, and --json") {
+    const Run r = run("probe default 100 60 --technique forward-plus --width 160 --height 90 --json");
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    CHECK(j["pixel"] == nlohmann::json::array({100, 60}));
+    CHECK(j["events"].size() > 2);
+    CHECK(j["events"][0]["pass"] == "clear");
+    CHECK(j["final"].contains("backbuffer"));
+    CHECK(j["tile"]["tile"] == nlohmann::json::array({100 / 16, 60 / 16}));
+    CHECK(j["tile"]["lights"].size() == j["tile"]["listCount"].get<std::size_t>());
+    CHECK(j["tile"].contains("frustumPlanes"));
+    const Run text = run("probe default 10 10 --technique deferred --width 64 --height 36");
+    INFO(text.output);
+    CHECK(text.exitCode == 0);
+    CHECK(text.output.find("pixel (10, 10)") != std::string::npos);
+    CHECK(text.output.find("gbuffer: depth") != std::string::npos);
+    CHECK(run("probe default 64 0 --width 64 --height 36").output.find("outside the 64x36 frame") != std::string::npos);
+    CHECK(run("probe default 5").exitCode == 2);
+    CHECK(run("render default --json").exitCode == 2);
 }

@@ -1,0 +1,43 @@
+// Pixel history (`tessera probe`, `render --probe X,Y`): the value of every named buffer at one
+// pixel, recorded after every pass and after every step of the per-light techniques, kept where
+// it changed; then, for the tiled techniques, the pixel's tile, its depth range and light list.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include <tessera/inspect/buffer_registry.h>
+
+namespace tessera {
+
+// One buffer's texel at (x, y), every sample, as JSON: RGBA8 as codes and values, depth as
+// float (and the D24 code), stencil as its byte, UINT channels as integers, others as floats.
+nlohmann::json pixelValue(const Surface& surface, std::uint32_t x, std::uint32_t y);
+
+class PixelHistory {
+public:
+    PixelHistory(std::uint32_t x, std::uint32_t y) : mX(x), mY(y) {}
+    // After a pass (or a light's step: `light` >= 0 and `step`), an event per buffer that is new
+    // or whose value at the pixel changed since the last event.
+    void record(std::string_view pass, const BufferRegistry& registry, long long light = -1, std::string_view step = {});
+    // The tiled techniques' view of the pixel from the final buffers: tile, depth range, list.
+    void addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx);
+    std::uint32_t x() const { return mX; }
+    std::uint32_t y() const { return mY; }
+    const nlohmann::json& events() const { return mEvents; }
+    const nlohmann::json& tile() const { return mTile; }
+    // The buffers' last recorded values (name -> value): what the history says the frame ends with.
+    const nlohmann::json& last() const { return mLast; }
+    std::string text() const;
+
+private:
+    std::uint32_t mX, mY;
+    nlohmann::json mEvents = nlohmann::json::array();
+    nlohmann::json mLast = nlohmann::json::object();
+    nlohmann::json mTile;  // null unless tiled
+};
+
+} // namespace tessera
