@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+# Draws the curve tables of bench/RESULTS.md as PNGs in bench/plots/: the tables themselves are the
+# data (each is found by the heading above it and its header row), so a plot can never disagree
+# with the numbers beside it. Re-run after editing a table. Needs matplotlib (Debian
+# python3-matplotlib): /usr/bin/python3 bench/plot_tables.py [--results bench/RESULTS.md] [--out bench/plots]
+import argparse
+import os
+import re
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit("plot_tables.py: needs matplotlib: apt-get install python3-matplotlib, then run it with /usr/bin/python3")
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def fail(message):
+    sys.exit("plot_tables.py: " + message)
+
+
+def table_after(lines, heading, header_start):
+    """The rows (lists of cell strings) of the first table after `heading` whose header row starts with `header_start`."""
+    try:
+        start = next(i for i, l in enumerate(lines) if l.strip() == heading)
+    except StopIteration:
+        fail("no heading '%s' in the results file" % heading)
+    for i in range(start + 1, len(lines)):
+        if lines[i].startswith("|") and lines[i].strip("| \n").startswith(header_start):
+            header = [c.strip() for c in lines[i].strip().strip("|").split("|")]
+            rows = []
+            for l in lines[i + 2:]:
+                if not l.startswith("|"):
+                    break
+                rows.append([c.strip() for c in l.strip().strip("|").split("|")])
+            return header, rows
+    fail("no table starting '%s' after '%s'" % (header_start, heading))
+
+
+def number(cell):
+    """The first number in a cell ('177.4', '**9.8**', '22.4, 19.0' -> 22.4, '–' -> None)."""
+    m = re.search(r"[-+]?\d+(?:\.\d+)?", cell.replace("**", ""))
+    return float(m.group(0)) if m else None
+
+
+def article_sweep(lines, out):
+    header, rows = table_after(lines, "### The article's sweep on the H200, beside the article's GTX 680", "lights")
+    lights = [number(r[0]) for r in rows]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+    for k, (title, first) in enumerate([("forward, large lights", 1), ("deferred, small lights", 4), ("Forward+, small lights", 7)]):
+        ax = axes[k]
+        for j, label, style in [(first, "GTX 680 (the article)", "o-"), (first + 1, "NVIDIA H200 (GLSL ports)", "s-"),
+                                (first + 2, "tessera, 16 CPU threads", "^-")]:
+            points = [(x, number(r[j])) for x, r in zip(lights, rows) if number(r[j]) is not None]
+            ax.plot([p[0] for p in points], [p[1] for p in points], style, label=label)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xlabel("lights")
+        ax.set_ylabel("frame ms (1280x720)")
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("The 3dgep experiment: frame time against light count")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "article-sweep.png"), dpi=90)
+    plt.close(fig)
+
+
+def scaling(lines, out):
+    heading = "## SIMD blocks, the fast light loop's FMA/rsqrt, and 16-core scaling (device machine)"
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    for ax, (first, name_cols, title) in zip(axes, [("workload", 1, "raster_bench (ms per frame)"),
+                                                    ("technique", 2, "Sponza frames, 1280x720")]):
+        header, rows = table_after(lines, heading, first)
+        threads = [number(h) for h in header[name_cols:] if number(h) is not None and h.strip().isdigit()]
+        for r in rows:
+            ms = [number(c) for c in r[name_cols:name_cols + len(threads)]]
+            label = " ".join(r[:name_cols])
+            ax.plot(threads, [ms[0] / m for m in ms], "o-", label=label)
+        ax.plot(threads, threads, "k--", alpha=0.4, label="ideal")
+        ax.set_xlabel("threads")
+        ax.set_ylabel("speed-up over 1 thread")
+        ax.set_title(title)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("Strong scaling on the 16-core device host")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "scaling.png"), dpi=90)
+    plt.close(fig)
+
+
+def culling(lines, out):
+    header, rows = table_after(lines, "## Thread scaling of the culling to 16 cores (device machine)", "threads")
+    threads = [number(r[0]) for r in rows]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for j in range(1, len(header)):
+        ax.plot(threads, [number(r[j]) for r in rows], "o-", label=header[j].replace(" (run 1, run 2)", ""))
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("threads")
+    ax.set_ylabel("culling ms (first run)")
+    ax.set_title("Light culling, 16384 small lights, by tile size and culler")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "culling-scaling.png"), dpi=90)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--results", default=os.path.join(REPO, "bench", "RESULTS.md"))
+    ap.add_argument("--out", default=os.path.join(REPO, "bench", "plots"))
+    args = ap.parse_args()
+    with open(args.results, encoding="utf-8") as f:
+        lines = f.read().splitlines()
+    os.makedirs(args.out, exist_ok=True)
+    article_sweep(lines, args.out)
+    scaling(lines, args.out)
+    culling(lines, args.out)
+    print("plot_tables.py: wrote article-sweep.png, scaling.png, culling-scaling.png to " + args.out)
+
+
+if __name__ == "__main__":
+    main()
