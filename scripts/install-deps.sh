@@ -14,6 +14,8 @@ packages=(
   assimp-testmodels
   # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)
   python3-matplotlib
+  # tests/report: the teaching report opened by headless Chromium
+  chromium
   # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
 )

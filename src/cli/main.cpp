@@ -35,6 +35,8 @@
 
 #include <tessera/techniques/builtin_scene.h>
 #include "diff.h"
+#include "report.h"
+#include "scene_args.h"
 #include <tessera/inspect/pixel_history.h>
 #include "progress.h"
 
@@ -53,6 +55,7 @@ commands:
                   correction, erratum
   probe SCENE X Y the history of one pixel through the frame (render's flags apply; --json)
   info SCENE      describe a scene: triangles, materials, lights, bounds, memory
+  report [SCENE] --out DIR  an HTML page walking through every technique's passes and buffers
   diff A B        compare two images: max abs difference, RMSE, PSNR, differing pixels
   help [COMMAND]  show this text, or the command's options
   --version       print the version
@@ -155,47 +158,9 @@ std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Where bundled scenes live: $TESSERA_SCENES, else <prefix>/share/tessera/scenes beside an
-// installed binary, else the source tree's scenes/ folder this binary was built from.
-fs::path bundledScenesDir() {
-    if (const char* env = std::getenv("TESSERA_SCENES"); env && *env) return env;
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-        const fs::path installed = exe.parent_path().parent_path() / "share" / "tessera" / "scenes";
-        if (fs::is_directory(installed, ec)) return installed;
-    }
-    return TESSERA_SOURCE_SCENES;
-}
-
-// A scene argument as a file: an existing path, else a bundled scene name.
-fs::path resolveScene(const std::string& arg) {
-    std::error_code ec;
-    if (fs::exists(arg, ec)) return arg;
-    if (arg.find('/') == std::string::npos) {
-        const fs::path bundled = bundledScenesDir() / (fs::path(arg).extension() == ".json" ? arg : arg + ".json");
-        if (fs::exists(bundled, ec)) return bundled;
-    }
-    throw tessera::InputError(arg + ": no such file, and no bundled scene of that name (see `tessera list`)");
-}
-
-bool isGltf(const fs::path& p) {
-    const std::string ext = p.extension().string();
-    return ext == ".gltf" || ext == ".glb";
-}
-
-tessera::SceneDescription describe(const fs::path& file) {
-    if (isGltf(file)) {
-        tessera::SceneDescription d;
-        d.file = file;
-        d.models.push_back({file, glm::mat4(1.0f)});
-        d.technique = "preview";
-        return d;
-    }
-    if (file.extension() != ".json")
-        throw tessera::InputError(file.string() + ": not a scene file (.json) or glTF file (.gltf, .glb)");
-    return tessera::parseSceneFile(file);
-}
+using tessera::cli::bundledScenesDir;
+using tessera::cli::describe;
+using tessera::cli::resolveScene;
 
 struct RenderOptions {
     std::string scene = "default";
@@ -970,6 +935,7 @@ int main(int argc, char** argv) {
             return render(renderArgs);
         }
         if (args[0] == "info") return info(rest);
+        if (args[0] == "report") return tessera::cli::reportCommand(rest);
         if (args[0] == "diff") return tessera::cli::diffCommand(rest);
         std::fprintf(stderr, "tessera: unknown command '%s'\n%s", std::string(args[0]).c_str(), kUsage);
         return 2;

@@ -1,0 +1,372 @@
+// The teaching report (report.h). Renders each ready technique once at a small size, writing the
+// buffers every pass declares (viewable pictures: inspect/buffer_view.h) after that pass, then
+// index.html beside them: no server, no network, no external scripts; opens from disk.
+#include "report.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include <tessera/inspect/buffer_view.h>
+#include <tessera/io/atomic_file.h>
+#include <tessera/io/image_writer.h>
+#include <tessera/io/input_error.h>
+#include <tessera/scene/default_lights.h>
+#include <tessera/techniques/technique.h>
+
+#include "scene_args.h"
+
+namespace tessera::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kReportUsage = R"(usage: tessera report [SCENE] --out DIR [options]
+
+Renders SCENE (default: the bundled scene 'default') with every ready technique and writes
+DIR/index.html: each technique's passes in order with the buffers each pass wrote (as viewable
+pictures), what the pass does and where its source describes it, one light's deferred stencil
+steps (unmark, shade), per-pass times, and every technique's difference from forward with the
+errata that explain it. The page works from disk: no server, no network, no external scripts.
+
+options:
+  --out DIR      the report's folder (created; its files are overwritten)
+  --width W      width in px (default 480)
+  --height H     height in px (default 270)
+  --light I      the light whose deferred steps are shown (default: the first point or spot light)
+  --threads N    worker threads, 0 = all cores (default 0)
+  --help         show this text
+)";
+
+struct ReportError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+std::uint32_t parseCount(std::string_view flag, std::string_view text, std::uint32_t lo, std::uint32_t hi) {
+    std::uint32_t v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
+        throw ReportError(std::string(flag) + ": '" + std::string(text) + "' is not an integer in " + std::to_string(lo) + ".." +
+                          std::to_string(hi));
+    return v;
+}
+
+std::string html(std::string_view text) {
+    std::string out;
+    for (const char c : text) {
+        if (c == '<') out += "&lt;";
+        else if (c == '>') out += "&gt;";
+        else if (c == '&') out += "&amp;";
+        else if (c == '"') out += "&quot;";
+        else out += c;
+    }
+    return out;
+}
+
+// What each pass does and where the source describes it (docs/sources.md keys).
+std::string caption(std::string_view technique, std::string_view pass) {
+    static const std::map<std::string, std::string, std::less<>> kCommon{
+        {"clear", "Clears the targets the frame writes (the demo's clear colour, depth 1, stencil 0)."},
+        {"transparent", "Transparent draws, alpha-blended after the opaque ones and forward-shaded with every light, in "
+                        "scene order (3dgep article §2, §3; ERRATA #8: the article says sorted, the demo does not sort)."},
+    };
+    const std::string key = std::string(technique) + "/" + std::string(pass);
+    static const std::map<std::string, std::string, std::less<>> kPasses{
+        {"forward/opaque", "Every opaque draw shaded with every light in its pixel shader (3dgep article §2 Forward "
+                           "Rendering; demo ForwardRendering.hlsl)."},
+        {"deferred/gbuffer", "The G-buffer pass: diffuse, specular with the packed specular power, view-space normal and "
+                             "depth, no lighting (3dgep article §3 Deferred Shading; demo DeferredRendering.hlsl)."},
+        {"deferred/copy depth", "Depth copied so that the light pass can read it while the stencil is written (3dgep demo "
+                                "main.cpp)."},
+        {"deferred/lights", "Per light: the unmark pass clears the stencil where geometry lies in front of the light "
+                            "volume's front faces, the shade pass lights the pixels whose stencil stayed 1 behind its back "
+                            "faces (3dgep article §3; ERRATA #3, #4). The steps of one light are below."},
+        {"deferred-killzone/gbuffer", "The G-buffer pass, as deferred."},
+        {"deferred-killzone/copy depth", "Depth copied for the light pass, as deferred."},
+        {"deferred-killzone/lights", "Per light: Killzone 2's stencil marking and an occlusion query decide whether the "
+                                     "shade draw runs (3dgep article §3; ERRATA #6: the eye inside a volume loses it)."},
+        {"forward-plus/depth-prepass", "Depth pre-pass: the opaque geometry's depth only, for the tiles' depth ranges "
+                                       "(3dgep article §4 Forward+)."},
+        {"forward-plus/frustums", "One frustum per 16x16 px tile, built once from the inverse projection (3dgep article "
+                                  "§4; demo ForwardPlusRendering.hlsl)."},
+        {"forward-plus/light-culling", "The culling compute shader: each tile's depth range, then sphere and cone tests "
+                                       "against its frustum, appending to the light grid and index list (3dgep article §4; "
+                                       "ERRATA #10, #14, #15)."},
+        {"forward-plus/heatmap", "Lights per tile as the demo's debug texture."},
+        {"forward-plus/opaque", "Shading reads only the tile's light list (3dgep article §4)."},
+        {"forward-plus-amd/depth-prepass", "Depth pre-pass (GPU Pro 4 ch. 5 §5.2)."},
+        {"forward-plus-amd/light-culling", "Gather-based culling over 8x8 px tiles with the 2.5D depth mask (GPU Pro 4 ch. 5 "
+                                           "§5.3.1, §5.6.1; ForwardPlus11 CullLightsCS)."},
+        {"forward-plus-amd/opaque", "Final shading with the tile's lists and AMD's falloff (GPU Pro 4 ch. 5 §5.3.2; "
+                                    "ForwardPlus11 RenderScenePS; ERRATA #18)."},
+        {"tiled-deferred/gbuffer", "The G-buffer (Intel 2010 sample GBuffer.hlsl)."},
+        {"tiled-deferred/tiles", "One compute dispatch: per tile the depth range, side planes from the projection, the "
+                                 "light list and the shading of the tile's pixels (Intel 2010 sample ComputeShaderTile.hlsl; "
+                                 "ERRATA #12, #16)."},
+        {"tiled-deferred/present", "The lit result converted to the back buffer."},
+    };
+    if (const auto it = kPasses.find(key); it != kPasses.end()) return it->second;
+    if (const auto it = kCommon.find(pass); it != kCommon.end()) return it->second;
+    return "";
+}
+
+// Why a technique's image differs from forward's with the faithful defaults (ERRATA.md rows).
+std::string differenceNote(std::string_view technique) {
+    if (technique == "deferred" || technique == "deferred-killzone")
+        return "P rebuilt at the pixel corner (#3), inscribed light volumes (#4), the packed specular power (#7); with "
+               "every correction on, deferred equals forward bit for bit on opaque scenes.";
+    if (technique == "forward-plus") return "light lists that may overflow (#15) and the cone test (#10); LESS_EQUAL against the pre-pass.";
+    if (technique == "forward-plus-amd") return "AMD's own lighting model (falloff, Blinn-Phong power 8; #18) and D3D projection.";
+    if (technique == "tiled-deferred") return "Intel's shading (linstep falloff, its G-buffer encoding) and D3D projection.";
+    return "";
+}
+
+struct Shot {
+    std::string file, rule, label;
+};
+struct PassReport {
+    std::string name;
+    double ms = 0.0;
+    std::vector<std::string> reads, writes;
+    std::vector<Shot> shots;
+};
+struct TechniqueReport {
+    std::string id, source, summary;
+    std::vector<PassReport> passes;
+    std::vector<std::pair<std::string, std::vector<Shot>>> lightSteps;
+    std::string finalFile;
+    double maxAbs = 0, rmse = 0;
+    std::uint64_t differing = 0;
+};
+
+// Writes `s` as a picture into dir/file and returns the shot (RGBA8 as stored with opaque alpha;
+// others through viewBuffer). Empty file when nothing viewable.
+std::vector<Shot> pictures(const fs::path& root, const std::string& folder, const std::string& name, const Surface& s) {
+    std::vector<Shot> shots;
+    fs::create_directories(root / folder);
+    if (s.format() == Format::R8G8B8A8_UNORM || s.format() == Format::R8G8B8A8_UNORM_SRGB) {
+        const std::string file = folder + "/" + name + ".png";
+        writeSurface(withOpaqueAlpha(s), root / file);
+        shots.push_back({file, "the stored RGBA8 bytes, alpha shown opaque", name});
+        return shots;
+    }
+    for (const ViewChannel channel : {ViewChannel::Depth, ViewChannel::Stencil}) {
+        if (channel == ViewChannel::Stencil && !formatInfo(s.format()).hasStencil) continue;
+        const auto view = viewBuffer(name, s, channel);
+        if (!view) continue;
+        const std::string label = channel == ViewChannel::Stencil ? name + " (stencil)" : name;
+        const std::string file = folder + "/" + name + (channel == ViewChannel::Stencil ? ".stencil" : "") + ".png";
+        writeSurface(view->image, root / file);
+        shots.push_back({file, view->rule, label});
+    }
+    return shots;
+}
+
+std::string folderName(std::string text) {
+    std::replace(text.begin(), text.end(), ' ', '-');
+    return text;
+}
+
+void writeText(const fs::path& file, const std::string& text) {
+    writeFileAtomically(file, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+}
+
+std::string shotsHtml(const std::vector<Shot>& shots) {
+    std::string out = "<div class=\"shots\">\n";
+    for (const Shot& s : shots)
+        out += "<figure><img src=\"" + html(s.file) + "\" alt=\"" + html(s.label) + "\"><figcaption><b>" + html(s.label) +
+               "</b><br>" + html(s.rule) + "</figcaption></figure>\n";
+    return out + "</div>\n";
+}
+
+} // namespace
+
+int reportCommand(const std::vector<std::string_view>& args) {
+    std::string sceneArg = "default", outDir;
+    std::uint32_t width = 480, height = 270, threads = 0;
+    std::optional<std::uint32_t> chosenLight;
+    try {
+        bool sceneGiven = false;
+        for (std::size_t i = 0; i < args.size(); ++i) {
+            const std::string_view a = args[i];
+            auto value = [&]() -> std::string_view {
+                if (i + 1 >= args.size()) throw ReportError(std::string(a) + " needs a value");
+                return args[++i];
+            };
+            if (a == "--help" || a == "-h") {
+                std::fputs(kReportUsage, stdout);
+                return 0;
+            }
+            if (a == "--out") outDir = std::string(value());
+            else if (a == "--width") width = parseCount(a, value(), 8, 4096);
+            else if (a == "--height") height = parseCount(a, value(), 8, 4096);
+            else if (a == "--light") chosenLight = parseCount(a, value(), 0, 1000000);
+            else if (a == "--threads") threads = parseCount(a, value(), 0, 256);
+            else if (!a.empty() && a[0] == '-') throw ReportError("unknown option '" + std::string(a) + "'");
+            else if (sceneGiven) throw ReportError("one scene only");
+            else {
+                sceneArg = std::string(a);
+                sceneGiven = true;
+            }
+        }
+        if (outDir.empty()) throw ReportError("--out DIR is required");
+        std::error_code ec;
+        if (fs::exists(outDir, ec) && !fs::is_directory(outDir, ec)) throw ReportError("--out: '" + outDir + "' is not a folder");
+    } catch (const ReportError& e) {
+        std::fprintf(stderr, "tessera report: %s (see tessera report --help)\n", e.what());
+        return 2;
+    }
+
+    const fs::path sceneFile = resolveScene(sceneArg);
+    const SceneDescription desc = describe(sceneFile);
+    Camera camera;
+    Scene scene = loadScene(desc, true, &camera);
+    if (scene.lights.empty()) scene.lights = defaultLightRig(scene.bounds(), camera);
+    if (!chosenLight)
+        for (std::size_t i = 0; i < scene.lights.size() && !chosenLight; ++i)
+            if (scene.lights[i].type != LightType::Directional) chosenLight = std::uint32_t(i);
+    if (chosenLight && *chosenLight >= scene.lights.size())
+        throw InputError("--light: " + std::to_string(*chosenLight) + " is not a light of " + sceneFile.string() + " (it has " +
+                         std::to_string(scene.lights.size()) + ")");
+    const SceneResources resources(scene, {}, TexturePolicy::AllLinear);
+    const fs::path root(outDir);
+    fs::create_directories(root);
+
+    std::vector<TechniqueReport> reports;
+    const Surface* forwardFinal = nullptr;
+    BufferRegistry forwardRegistry;
+    for (const TechniqueInfo& info : techniques()) {
+        if (!info.build || info.id == "preview") continue;
+        TechniqueReport tr;
+        tr.id = std::string(info.id);
+        tr.source = std::string(info.source);
+        tr.summary = std::string(info.summary);
+        std::fprintf(stderr, "tessera report: %s\n", tr.id.c_str());
+        Device device(DeviceConfig{64, threads});
+        DrawStats stats;
+        TechniqueContext ctx;
+        ctx.device = &device;
+        ctx.resources = &resources;
+        ctx.camera = camera;
+        ctx.width = width;
+        ctx.height = height;
+        ctx.options = tr.id == desc.technique ? desc.techniqueOptions : nlohmann::json::object();
+        ctx.stats = &stats;
+        ctx.sceneFile = sceneFile.string();
+        ctx.afterLightStep = [&](std::size_t light, std::string_view step, const BufferRegistry& reg) {
+            if (!chosenLight || light != *chosenLight) return;
+            const std::string folder = tr.id + "/light-" + std::to_string(light) + "-" + std::string(step);
+            std::vector<Shot> shots = pictures(root, folder, "depth", *reg.find("depth"));
+            const std::string target = reg.find("accumulation") ? "accumulation" : std::string(kBackBufferName);
+            for (Shot& s : pictures(root, folder, target, *reg.find(target))) shots.push_back(s);
+            tr.lightSteps.push_back({std::string(step), shots});
+        };
+        const Frame frame = buildTechnique(info.id, ctx, sceneFile.string());
+        BufferRegistry registry;
+        std::size_t passIndex = 0;
+        const std::vector<PassTiming> timings = frame.run(registry, [&](const Pass& pass, const BufferRegistry& reg) {
+            PassReport pr{pass.name, 0.0, pass.reads, pass.writes, {}};
+            const std::string folder = tr.id + "/" + std::to_string(passIndex++) + "-" + folderName(pass.name);
+            for (const std::string& name : pass.writes)
+                if (const Surface* s = reg.find(name))
+                    for (Shot& shot : pictures(root, folder, name, *s)) pr.shots.push_back(shot);
+            tr.passes.push_back(std::move(pr));
+        });
+        for (std::size_t i = 0; i < timings.size() && i < tr.passes.size(); ++i) tr.passes[i].ms = timings[i].milliseconds;
+        tr.finalFile = tr.id + "/final.png";
+        const Surface& back = registry.get(kBackBufferName);
+        writeSurface(withOpaqueAlpha(back), root / tr.finalFile);
+        if (tr.id == "forward") {
+            forwardRegistry = std::move(registry);
+            forwardFinal = forwardRegistry.find(kBackBufferName);
+        } else if (forwardFinal) {
+            double sumSquares = 0;
+            for (std::uint32_t y = 0; y < height; ++y)
+                for (std::uint32_t x = 0; x < width; ++x) {
+                    bool differs = false;
+                    for (int c = 0; c < 3; ++c) {
+                        const double d = std::abs(double(std::to_integer<int>(back.texel(x, y)[c])) -
+                                                  double(std::to_integer<int>(forwardFinal->texel(x, y)[c])));
+                        tr.maxAbs = std::max(tr.maxAbs, d);
+                        sumSquares += d * d;
+                        differs = differs || d > 0;
+                    }
+                    tr.differing += differs ? 1 : 0;
+                }
+            tr.rmse = std::sqrt(sumSquares / (3.0 * double(width) * double(height)));
+        }
+        reports.push_back(std::move(tr));
+    }
+
+    std::string page = R"(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>tessera report</title>
+<style>
+body { font-family: sans-serif; margin: 2em; max-width: 1400px; color: #222; }
+h2 { border-top: 2px solid #888; padding-top: 0.6em; }
+.shots { display: flex; flex-wrap: wrap; gap: 12px; }
+figure { margin: 0; max-width: 320px; font-size: 0.8em; }
+figure img { width: 320px; image-rendering: pixelated; border: 1px solid #ccc; }
+table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+td:first-child, th:first-child { text-align: left; }
+.pass { margin-left: 1em; } .meta { color: #666; font-size: 0.9em; }
+</style>
+<script>
+// Records failed resources and, once loaded, how many images decoded, for tests and readers.
+window.addEventListener('error', function () {
+  var s = document.getElementById('status'); s.setAttribute('data-errors', String(Number(s.getAttribute('data-errors') || 0) + 1));
+}, true);
+window.addEventListener('load', function () {
+  var images = Array.prototype.slice.call(document.images);
+  var ok = images.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
+  var s = document.getElementById('status');
+  s.textContent = 'images ' + ok + '/' + images.length + ', errors ' + (s.getAttribute('data-errors') || 0);
+});
+</script></head><body>
+)";
+    page += "<h1>tessera: the techniques step by step</h1>\n<p class=\"meta\">Scene <code>" + html(sceneFile.string()) + "</code>, " +
+            std::to_string(width) + "&times;" + std::to_string(height) + ", " + std::to_string(scene.lights.size()) +
+            " lights, precision exact, faithful options. Sources: docs/sources.md; errata: ERRATA.md. " +
+            "<span id=\"status\">loading</span></p>\n";
+    page += "<h2>Difference from forward</h2>\n<table><tr><th>technique</th><th>max abs (codes)</th><th>RMSE</th><th>differing "
+            "px</th><th>why (ERRATA.md)</th></tr>\n";
+    for (const TechniqueReport& tr : reports) {
+        if (tr.id == "forward") continue;
+        char row[256];
+        std::snprintf(row, sizeof(row), "<tr><td>%s</td><td>%.0f</td><td>%.3f</td><td>%llu (%.2f%%)</td>", tr.id.c_str(), tr.maxAbs,
+                      tr.rmse, (unsigned long long)tr.differing, 100.0 * double(tr.differing) / (double(width) * height));
+        page += row + std::string("<td style=\"text-align:left\">") + html(differenceNote(tr.id)) + "</td></tr>\n";
+    }
+    page += "</table>\n";
+    for (const TechniqueReport& tr : reports) {
+        page += "<h2 id=\"" + html(tr.id) + "\">" + html(tr.id) + "</h2>\n<p>" + html(tr.summary) + " <span class=\"meta\">(" +
+                html(tr.source) + ")</span></p>\n";
+        page += shotsHtml({{tr.finalFile, "the back buffer after the last pass", "final image"}});
+        for (const PassReport& p : tr.passes) {
+            char ms[64];
+            std::snprintf(ms, sizeof(ms), "%.2f ms", p.ms);
+            std::string reads, writes;
+            for (const std::string& r : p.reads) reads += (reads.empty() ? "" : ", ") + r;
+            for (const std::string& w : p.writes) writes += (writes.empty() ? "" : ", ") + w;
+            page += "<div class=\"pass\"><h3>" + html(p.name) + " <span class=\"meta\">" + ms + "</span></h3>\n<p>" +
+                    html(caption(tr.id, p.name)) + "</p>\n<p class=\"meta\">reads: " + html(reads.empty() ? "-" : reads) +
+                    "; writes: " + html(writes.empty() ? "-" : writes) + "</p>\n" + shotsHtml(p.shots) + "</div>\n";
+        }
+        if (!tr.lightSteps.empty()) {
+            page += "<div class=\"pass\"><h3>light " + std::to_string(*chosenLight) + ", step by step</h3>\n";
+            for (const auto& [step, shots] : tr.lightSteps) page += "<h4>after " + html(step) + "</h4>\n" + shotsHtml(shots);
+            page += "</div>\n";
+        }
+    }
+    page += "</body></html>\n";
+    writeText(root / "index.html", page);
+    std::printf("wrote %s (%zu techniques)\n", (root / "index.html").string().c_str(), reports.size());
+    return 0;
+}
+
+} // namespace tessera::cli

@@ -1,0 +1,19 @@
+// Scene arguments of the `tessera` commands: bundled scene names, files, glTF files.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <tessera/scene/scene_file.h>
+
+namespace tessera::cli {
+
+// Where bundled scenes live: $TESSERA_SCENES, else <prefix>/share/tessera/scenes beside an
+// installed binary, else the source tree's scenes/ folder this binary was built from.
+std::filesystem::path bundledScenesDir();
+// A scene argument as a file: an existing path, else a bundled scene name (InputError if neither).
+std::filesystem::path resolveScene(const std::string& arg);
+// The scene description of a scene file, or of a glTF file drawn with the preview technique.
+SceneDescription describe(const std::filesystem::path& file);
+
+} // namespace tessera::cli
