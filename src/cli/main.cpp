@@ -132,18 +132,8 @@ Loads SCENE without decoding images and prints its triangles, meshes, instances,
 textures, cameras, lights by type, world bounds and an estimate of the memory a render needs.
 )";
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint32_t lo, std::uint32_t hi) {
-    std::uint64_t v = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        throw UsageError(std::string(flag) + ": '" + std::string(text) + "' is not an integer in " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
-    return std::uint32_t(v);
-}
+using tessera::cli::parseUint;
+using tessera::cli::UsageError;
 
 // --option KEY=VALUE: VALUE as JSON (true, 32, "x", [..]), else the bare text as a string.
 std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
@@ -479,6 +469,16 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
     return runs;
 }
 
+// --probe X,Y: the pixel's history for a frame of width x height (the pixel checked inside it).
+std::optional<tessera::PixelHistory> probeHistory(const RenderOptions& o, std::uint32_t width, std::uint32_t height) {
+    if (!o.probe) return std::nullopt;
+    const auto [x, y] = *o.probe;
+    if (x >= width || y >= height)
+        throw UsageError("--probe: (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " + std::to_string(width) +
+                         "x" + std::to_string(height) + " frame");
+    return tessera::PixelHistory(x, y);
+}
+
 std::string gCommandLine;  // "tessera render ...", for the manifest
 
 // The manifest's common part: what was rendered and how, the passes with their declared buffers,
@@ -539,13 +539,7 @@ int renderBuiltin(const RenderOptions& o) {
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     tessera::cli::Progress progress(o.progress);
     checkDumpAfter(frame, o);
-    std::optional<tessera::PixelHistory> history;
-    if (o.probe) {
-        if ((*o.probe)[0] >= opt.width || (*o.probe)[1] >= opt.height)
-            throw UsageError("--probe: (" + std::to_string((*o.probe)[0]) + ", " + std::to_string((*o.probe)[1]) + ") is outside the " +
-                             std::to_string(opt.width) + "x" + std::to_string(opt.height) + " frame");
-        history.emplace((*o.probe)[0], (*o.probe)[1]);
-    }
+    std::optional<tessera::PixelHistory> history = probeHistory(o, opt.width, opt.height);
     const FrameRuns runs =
         runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; }, history ? &*history : nullptr);
     nlohmann::json manifest = manifestBase(frame, runs, o);
@@ -658,13 +652,7 @@ int render(const std::vector<std::string_view>& args) {
     std::uint32_t runsStarted = 0;
     std::vector<WrittenFile> lightWritten;
     nlohmann::json lightSteps = nlohmann::json::object();
-    std::optional<tessera::PixelHistory> history;
-    if (o.probe) {
-        if ((*o.probe)[0] >= desc.width || (*o.probe)[1] >= desc.height)
-            throw UsageError("--probe: (" + std::to_string((*o.probe)[0]) + ", " + std::to_string((*o.probe)[1]) + ") is outside the " +
-                             std::to_string(desc.width) + "x" + std::to_string(desc.height) + " frame");
-        history.emplace((*o.probe)[0], (*o.probe)[1]);
-    }
+    std::optional<tessera::PixelHistory> history = probeHistory(o, desc.width, desc.height);
     if (!o.dumpLights.empty() || history)
         ctx.afterLightStep = [&](std::size_t light, std::string_view step, const tessera::BufferRegistry& now) {
             if (runsStarted != o.warmup + o.repeat) return;
@@ -941,7 +929,7 @@ int main(int argc, char** argv) {
         return 2;
     } catch (const UsageError& e) {
         // The command's own help names its options; the top-level usage would bury the message.
-        const bool known = !args.empty() && (args[0] == "render" || args[0] == "list" || args[0] == "options" || args[0] == "probe" ||
+        const bool known = !args.empty() && (args[0] == "render" || args[0] == "list" || args[0] == "options" || args[0] == "probe" || args[0] == "report" ||
                                              args[0] == "info" || args[0] == "diff");
         if (known) std::fprintf(stderr, "tessera: %s\n(see `tessera help %s`)\n", e.what(), std::string(args[0]).c_str());
         else std::fprintf(stderr, "tessera: %s\n%s", e.what(), kUsage);

@@ -4,7 +4,6 @@
 #include "report.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -44,18 +43,6 @@ options:
   --help         show this text
 )";
 
-struct ReportError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-std::uint32_t parseCount(std::string_view flag, std::string_view text, std::uint32_t lo, std::uint32_t hi) {
-    std::uint32_t v = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        throw ReportError(std::string(flag) + ": '" + std::string(text) + "' is not an integer in " + std::to_string(lo) + ".." +
-                          std::to_string(hi));
-    return v;
-}
 
 std::string html(std::string_view text) {
     std::string out;
@@ -191,12 +178,12 @@ int reportCommand(const std::vector<std::string_view>& args) {
     std::string sceneArg = "default", outDir;
     std::uint32_t width = 480, height = 270, threads = 0;
     std::optional<std::uint32_t> chosenLight;
-    try {
+    {
         bool sceneGiven = false;
         for (std::size_t i = 0; i < args.size(); ++i) {
             const std::string_view a = args[i];
             auto value = [&]() -> std::string_view {
-                if (i + 1 >= args.size()) throw ReportError(std::string(a) + " needs a value");
+                if (i + 1 >= args.size()) throw UsageError(std::string(a) + " needs a value");
                 return args[++i];
             };
             if (a == "--help" || a == "-h") {
@@ -204,23 +191,20 @@ int reportCommand(const std::vector<std::string_view>& args) {
                 return 0;
             }
             if (a == "--out") outDir = std::string(value());
-            else if (a == "--width") width = parseCount(a, value(), 8, 4096);
-            else if (a == "--height") height = parseCount(a, value(), 8, 4096);
-            else if (a == "--light") chosenLight = parseCount(a, value(), 0, 1000000);
-            else if (a == "--threads") threads = parseCount(a, value(), 0, 256);
-            else if (!a.empty() && a[0] == '-') throw ReportError("unknown option '" + std::string(a) + "'");
-            else if (sceneGiven) throw ReportError("one scene only");
+            else if (a == "--width") width = parseUint(a, value(), 8, 4096);
+            else if (a == "--height") height = parseUint(a, value(), 8, 4096);
+            else if (a == "--light") chosenLight = parseUint(a, value(), 0, 1000000);
+            else if (a == "--threads") threads = parseUint(a, value(), 0, 256);
+            else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "'");
+            else if (sceneGiven) throw UsageError("one scene only");
             else {
                 sceneArg = std::string(a);
                 sceneGiven = true;
             }
         }
-        if (outDir.empty()) throw ReportError("--out DIR is required");
+        if (outDir.empty()) throw UsageError("--out DIR is required");
         std::error_code ec;
-        if (fs::exists(outDir, ec) && !fs::is_directory(outDir, ec)) throw ReportError("--out: '" + outDir + "' is not a folder");
-    } catch (const ReportError& e) {
-        std::fprintf(stderr, "tessera report: %s (see tessera report --help)\n", e.what());
-        return 2;
+        if (fs::exists(outDir, ec) && !fs::is_directory(outDir, ec)) throw UsageError("--out: '" + outDir + "' is not a folder");
     }
 
     const fs::path sceneFile = resolveScene(sceneArg);

@@ -35,6 +35,23 @@ inline MeshPrimitive quad(glm::vec3 origin, glm::vec3 edgeU, glm::vec3 edgeV, in
     return p;
 }
 
+// One triangle at view z = `zView` facing +Z (towards a camera at the origin looking down -Z),
+// glTF default material: the smallest scene a technique can render.
+inline Scene oneTriangle(float zView) {
+    Scene scene;
+    MeshPrimitive prim;
+    prim.positionsObject = {{-1.0f, -1.0f, zView}, {1.0f, -1.0f, zView}, {0.0f, 1.0f, zView}};
+    prim.normalsObject = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    prim.tangentsObject = {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}};
+    prim.texCoords0 = {{0, 0}, {1, 0}, {0.5f, 1}};
+    prim.indices = {0, 1, 2};
+    Mesh mesh;
+    mesh.primitives.push_back(prim);
+    scene.meshes.push_back(mesh);
+    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "triangle"});
+    return scene;
+}
+
 struct LightSpec {
     LightType type;
     glm::vec3 position, direction;

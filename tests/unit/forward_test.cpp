@@ -11,26 +11,15 @@
 #include "tessera/techniques/forward.h"
 #include "tessera/techniques/technique.h"
 
+#include "support/room_scene.h"
+
 using namespace tessera;
 
 namespace {
 
 // One triangle at view z = `zView` covering the whole 16x16 view (camera at the origin looking
 // down -Z, 45 degrees, near 0.1, far 1000), normal towards the eye, glTF default material.
-Scene triangleAt(float zView) {
-    Scene scene;
-    MeshPrimitive prim;
-    prim.positionsObject = {{-1.0f, -1.0f, zView}, {1.0f, -1.0f, zView}, {0.0f, 1.0f, zView}};
-    prim.normalsObject = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-    prim.tangentsObject = {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}};
-    prim.texCoords0 = {{0, 0}, {1, 0}, {0.5f, 1}};
-    prim.indices = {0, 1, 2};
-    Mesh mesh;
-    mesh.primitives.push_back(prim);
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "triangle"});
-    return scene;
-}
+Scene triangleAt(float zView) { return test::oneTriangle(zView); }
 
 struct Rendered {
     BufferRegistry registry;

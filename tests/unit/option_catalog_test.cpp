@@ -12,29 +12,15 @@
 #include "tessera/techniques/option_catalog.h"
 #include "tessera/techniques/technique.h"
 
+#include "support/room_scene.h"
+
 using namespace tessera;
 
 namespace {
 
-// One triangle in front of the default camera, 16x16 px.
-Scene tinyScene() {
-    Scene scene;
-    MeshPrimitive prim;
-    prim.positionsObject = {{-1.0f, -1.0f, -2.0f}, {1.0f, -1.0f, -2.0f}, {0.0f, 1.0f, -2.0f}};
-    prim.normalsObject = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
-    prim.tangentsObject = {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}};
-    prim.texCoords0 = {{0, 0}, {1, 0}, {0.5f, 1}};
-    prim.indices = {0, 1, 2};
-    Mesh mesh;
-    mesh.primitives.push_back(prim);
-    scene.meshes.push_back(mesh);
-    scene.instances.push_back(MeshInstance{0, glm::mat4(1.0f), "triangle"});
-    return scene;
-}
-
 // "" when the technique builds and renders with these options, else the InputError's text.
 std::string buildError(std::string_view technique, const nlohmann::json& options) {
-    static const Scene scene = tinyScene();
+    static const Scene scene = test::oneTriangle(-2.0f);
     static const SceneResources resources(scene);
     Device device(DeviceConfig{64, 1});
     TechniqueContext ctx;
