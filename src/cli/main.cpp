@@ -96,8 +96,9 @@ options:
                     light I (scene order, from 0): DIR/light-I-unmark/ and DIR/light-I-shade/ (Killzone:
                     -mark, -count, -shade), so the stencil can be watched being marked and cleared
   --exposure E      scale of float colour buffers in DIR/view/ (default 1)
-  --probe X,Y       print the history of window pixel (X, Y): every buffer's value there after each
-                    pass (and each light step of deferred) where it changed, and for the tiled
+  --probe X,Y       print the history of window pixel (X, Y): each primitive that covered it (draw,
+                    coverage, depth test, shader output, texels before/after), every buffer's value
+                    there after each pass and light step where it changed, and for the tiled
                     techniques the pixel's tile, depth range, frustum planes and light list
   --json            with --probe: the history as one JSON object
   --repeat N        render the frame N times after loading once, 1..100000 (default 1); --stats then
@@ -440,20 +441,26 @@ void checkDumpAfter(const tessera::Frame& frame, const RenderOptions& o) {
 template <class BeforeRun>
 FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& registry, const RenderOptions& o,
                     tessera::cli::Progress& progress, const std::string& label, BeforeRun beforeRun,
-                    tessera::PixelHistory* history = nullptr) {
+                    tessera::PixelHistory* history = nullptr, tessera::PixelWatch* watch = nullptr,
+                    tessera::Device* device = nullptr) {
     FrameRuns runs;
     const std::uint32_t total = o.warmup + o.repeat;
     for (std::uint32_t i = 0; i < total; ++i) {
         if (total > 1) progress.update(label, i, total);
         else progress.update(label, 0, 0);
         beforeRun();
+        // --probe: the rasterizer reports the pixel during the last (recorded) run only.
+        if (device && watch && i + 1 == total) device->setPixelWatch(watch);
         registry = tessera::BufferRegistry{};
         // The last run (the one written) also writes the buffers after the passes --dump-after names.
         // --probe records the pixel after every pass of the same run.
         tessera::Frame::AfterPass afterPass;
         if (i + 1 == total && (!o.dumpAfter.empty() || history))
             afterPass = [&](const tessera::Pass& pass, const tessera::BufferRegistry& now) {
-                if (history) history->record(pass.name, now);
+                if (history) {
+                    if (watch) history->addDrawEvents(pass.name, *watch);
+                    history->record(pass.name, now);
+                }
                 if (std::find(o.dumpAfter.begin(), o.dumpAfter.end(), pass.name) == o.dumpAfter.end()) return;
                 nlohmann::json buffers = nlohmann::json::array();
                 dumpRegistry(now, fs::path(o.dumpDir) / ("after-" + pass.name), o, true, runs.afterWritten, buffers);
@@ -462,6 +469,7 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
         const auto t = Clock::now();
         std::vector<tessera::PassTiming> timings = frame.run(registry, afterPass);
         const double ms = msSince(t);
+        if (device) device->setPixelWatch(nullptr);
         if (i < o.warmup) continue;
         runs.passes.push_back(std::move(timings));
         runs.frameMs.push_back(ms);
@@ -540,8 +548,11 @@ int renderBuiltin(const RenderOptions& o) {
     tessera::cli::Progress progress(o.progress);
     checkDumpAfter(frame, o);
     std::optional<tessera::PixelHistory> history = probeHistory(o, opt.width, opt.height);
+    tessera::PixelWatch watch;
+    if (o.probe) watch = {(*o.probe)[0], (*o.probe)[1], {}};
     const FrameRuns runs =
-        runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; }, history ? &*history : nullptr);
+        runFrames(frame, registry, o, progress, "rendering builtin", [&] { drawStats = {}; }, history ? &*history : nullptr,
+                  o.probe ? &watch : nullptr, &device);
     nlohmann::json manifest = manifestBase(frame, runs, o);
     manifest["scene"] = "builtin";
     manifest["technique"] = "builtin";
@@ -653,10 +664,15 @@ int render(const std::vector<std::string_view>& args) {
     std::vector<WrittenFile> lightWritten;
     nlohmann::json lightSteps = nlohmann::json::object();
     std::optional<tessera::PixelHistory> history = probeHistory(o, desc.width, desc.height);
+    tessera::PixelWatch watch;
+    if (o.probe) watch = {(*o.probe)[0], (*o.probe)[1], {}};
     if (!o.dumpLights.empty() || history)
         ctx.afterLightStep = [&](std::size_t light, std::string_view step, const tessera::BufferRegistry& now) {
             if (runsStarted != o.warmup + o.repeat) return;
-            if (history) history->record("lights", now, static_cast<long long>(light), step);
+            if (history) {
+                history->addDrawEvents("lights", watch, static_cast<long long>(light), step);
+                history->record("lights", now, static_cast<long long>(light), step);
+            }
             if (std::find(o.dumpLights.begin(), o.dumpLights.end(), light) == o.dumpLights.end()) return;
             const std::string folder = "light-" + std::to_string(light) + "-" + std::string(step);
             nlohmann::json buffers = nlohmann::json::array();
@@ -672,7 +688,7 @@ int render(const std::vector<std::string_view>& args) {
             ++runsStarted;
             drawStats = {};
             variantCounts.clear();
-        }, history ? &*history : nullptr);
+        }, history ? &*history : nullptr, o.probe ? &watch : nullptr, &device);
         progress.update("writing " + o.out, 0, 0);
         nlohmann::json manifest = manifestBase(frame, runs, o);
         manifest["scene"] = sceneFile.string();

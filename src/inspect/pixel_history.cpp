@@ -60,6 +60,42 @@ void PixelHistory::record(std::string_view pass, const BufferRegistry& registry,
     }
 }
 
+namespace {
+// One texel's bytes decoded as pixelValue decodes a buffer's (a 1x1 surface of that format).
+nlohmann::json texelValue(Format format, const std::byte* bytes) {
+    if (format == Format::Unknown) return nullptr;
+    Surface one({1, 1, format, 1});
+    std::memcpy(one.texel(0, 0), bytes, formatInfo(format).bytesPerTexel);
+    return pixelValue(one, 0, 0);
+}
+} // namespace
+
+void PixelHistory::addDrawEvents(std::string_view pass, PixelWatch& watch, long long light, std::string_view step) {
+    for (; mWatchTaken < watch.events.size(); ++mWatchTaken) {
+        const PixelDrawEvent& d = watch.events[mWatchTaken];
+        nlohmann::json e{{"pass", pass},
+                         {"draw", d.draw},
+                         {"primitive", d.primitive},
+                         {"face", d.frontFacing ? "front" : "back"},
+                         {"coverage", d.coverage},
+                         {"z", d.z},
+                         {"passed", d.passed},
+                         {"shaded", d.shaded},
+                         {"discarded", d.discarded}};
+        if (d.shaded) e["output"] = {d.output.x, d.output.y, d.output.z, d.output.w};
+        if (d.colorFormat != Format::Unknown)
+            e["color"] = {{"before", texelValue(d.colorFormat, d.colorBefore.data())}, {"after", texelValue(d.colorFormat, d.colorAfter.data())}};
+        if (d.depthFormat != Format::Unknown)
+            e["depthStencil"] = {{"before", texelValue(d.depthFormat, d.depthBefore.data())},
+                                 {"after", texelValue(d.depthFormat, d.depthAfter.data())}};
+        if (light >= 0) {
+            e["light"] = light;
+            e["step"] = step;
+        }
+        mEvents.push_back(e);
+    }
+}
+
 void PixelHistory::addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx) {
     // forward-plus / forward-plus-amd: lightgrid.opaque + lightindex.opaque; tiled-deferred:
     // tiles.grid + tiles.lightIndices. (offset, count) per tile; element e of a list at (e % W, e / W).
@@ -100,6 +136,18 @@ std::string PixelHistory::text() const {
     for (const auto& e : mEvents) {
         std::string where = e["pass"].get<std::string>();
         if (e.contains("light")) where += " light " + std::to_string(e["light"].get<long long>()) + " " + e["step"].get<std::string>();
+        if (e.contains("draw")) {  // a rasterizer event
+            out += "  " + where + ": draw " + std::to_string(e["draw"].get<std::uint64_t>()) + " primitive " +
+                   std::to_string(e["primitive"].get<std::uint32_t>()) + " (" + e["face"].get<std::string>() + "), coverage " +
+                   std::to_string(e["coverage"].get<std::uint32_t>()) + ", z " + e["z"].dump() + ", " +
+                   (e["passed"].get<std::uint32_t>() ? "passed" : "failed") + (e["shaded"].get<bool>() ? ", shaded" : "") +
+                   (e["discarded"].get<bool>() ? ", discarded" : "") + "\n";
+            if (e.contains("output")) out += "      shader output " + e["output"].dump() + "\n";
+            if (e.contains("depthStencil"))
+                out += "      depth/stencil " + e["depthStencil"]["before"].dump() + " -> " + e["depthStencil"]["after"].dump() + "\n";
+            if (e.contains("color")) out += "      colour " + e["color"]["before"].dump() + " -> " + e["color"]["after"].dump() + "\n";
+            continue;
+        }
         out += "  " + where + ": " + e["buffer"].get<std::string>() + " " +
                (e.contains("before") ? e["before"].dump() + " -> " : std::string("= ")) + e["after"].dump() + "\n";
     }

@@ -427,17 +427,30 @@ TEST_CASE("cli: a glTF file without lights gets the default rig under a lighting
 }
 
 TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and its lights for tiled techniques, and --json") {
-    const Run r = run("probe default 100 60 --technique forward-plus --width 160 --height 90 --json");
+    const Run r = run("probe default 80 50 --technique forward-plus --width 160 --height 90 --json");  // on the wall
     INFO(r.output);
     REQUIRE(r.exitCode == 0);
     const nlohmann::json j = nlohmann::json::parse(r.output);
-    CHECK(j["pixel"] == nlohmann::json::array({100, 60}));
+    CHECK(j["pixel"] == nlohmann::json::array({80, 50}));
     CHECK(j["events"].size() > 2);
     CHECK(j["events"][0]["pass"] == "clear");
     CHECK(j["final"].contains("backbuffer"));
-    CHECK(j["tile"]["tile"] == nlohmann::json::array({100 / 16, 60 / 16}));
+    CHECK(j["tile"]["tile"] == nlohmann::json::array({80 / 16, 50 / 16}));
     CHECK(j["tile"]["lights"].size() == j["tile"]["listCount"].get<std::size_t>());
     CHECK(j["tile"].contains("frustumPlanes"));
+    // Draw-level events: the last draw that wrote colour leaves the final back buffer's value.
+    const nlohmann::json* lastColour = nullptr;
+    int draws = 0;
+    for (const auto& e : j["events"])
+        if (e.contains("draw")) {
+            ++draws;
+            CHECK(e.contains("primitive"));
+            CHECK(e.contains("depthStencil"));
+            if (e.contains("color") && e["passed"].get<std::uint32_t>() != 0) lastColour = &e;
+        }
+    CHECK(draws > 0);
+    REQUIRE(lastColour != nullptr);
+    CHECK((*lastColour)["color"]["after"] == j["final"]["backbuffer"]);
     const Run text = run("probe default 10 10 --technique deferred --width 64 --height 36");
     INFO(text.output);
     CHECK(text.exitCode == 0);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <tessera/inspect/buffer_registry.h>
+#include <tessera/raster/pixel_watch.h>
 
 namespace tessera {
 
@@ -23,6 +24,10 @@ public:
     // After a pass (or a light's step: `light` >= 0 and `step`), an event per buffer that is new
     // or whose value at the pixel changed since the last event.
     void record(std::string_view pass, const BufferRegistry& registry, long long light = -1, std::string_view step = {});
+    // The rasterizer's events at the pixel (Device::setPixelWatch) since the last call, as "draw"
+    // events of `pass` (and of `light`'s `step`): draw, primitive, coverage, depth outcome, shader
+    // output, the colour and depth-stencil texels before and after, decoded by their formats.
+    void addDrawEvents(std::string_view pass, PixelWatch& watch, long long light = -1, std::string_view step = {});
     // The tiled techniques' view of the pixel from the final buffers: tile, depth range, list.
     void addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx);
     std::uint32_t x() const { return mX; }
@@ -38,6 +43,7 @@ private:
     nlohmann::json mEvents = nlohmann::json::array();
     nlohmann::json mLast = nlohmann::json::object();
     nlohmann::json mTile;  // null unless tiled
+    std::size_t mWatchTaken = 0;  // watch events already turned into history events
 };
 
 } // namespace tessera

@@ -15,6 +15,7 @@
 
 #include <tessera/raster/draw_state.h>
 #include <tessera/raster/occlusion_query.h>
+#include <tessera/raster/pixel_watch.h>
 #include <tessera/raster/output_merger.h>
 #include <tessera/raster/triangle_setup.h>
 #include <tessera/shaders/shader_stages.h>
@@ -86,8 +87,14 @@ public:
     template <class F>
     void execute(F&& f);
 
+    // Records what every later draw does at one pixel into `watch` (raster/pixel_watch.h);
+    // null stops. The watch must outlive the draws; its pixel always takes the per-quad path.
+    void setPixelWatch(PixelWatch* watch) { mWatch = watch; }
+
 private:
     DeviceConfig mConfig;
+    PixelWatch* mWatch = nullptr;
+    std::uint64_t mDrawCount = 0;  // draws issued, for PixelDrawEvent::draw
     std::unique_ptr<tbb::task_arena> mArena;
     // More threads than cores (e.g. the 7-thread determinism runs on 2 cores) need TBB's
     // process-wide worker limit raised while this device lives.

@@ -44,6 +44,7 @@ struct SetupTriangle {
     PixelRect bounds;                    // covered-pixel bounds clipped to the scissor/target
     std::uint8_t bias[3];                // 0 on top/left edges, 1 elsewhere: cover when E >= bias
     bool frontFacing;
+    std::uint32_t primitive;             // the triangle's index in its draw (set by setupAll)
 };
 
 struct SetupStats {

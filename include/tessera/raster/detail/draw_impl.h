@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -15,6 +16,7 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/raster/fixed_point.h>
 #include <tessera/raster/output_merger.h>
+#include <tessera/raster/pixel_watch.h>
 #include <tessera/raster/quad_block.h>
 #include <tessera/raster/sample_pattern.h>
 
@@ -84,7 +86,9 @@ void setupAll(std::uint32_t first, std::uint32_t end, const SetupContext& ctx, F
                 const glm::vec4 pos[3] = {vert[0].posClip, vert[1].posClip, vert[2].posClip};
                 const float* var[3];
                 for (int k = 0; k < 3; ++k) var[k] = reinterpret_cast<const float*>(&vert[k].varyings);
+                const std::size_t before = chunk.tris.size();
                 setupTriangle(ctx, pos, var, chunk.tris, chunk.varyings, chunkStats[c]);
+                for (std::size_t k = before; k < chunk.tris.size(); ++k) chunk.tris[k].primitive = t;
             }
         }
     });
@@ -249,6 +253,43 @@ struct DrawContext {
     std::span<const SampleOffset> samples;
     bool fast = false;  // DrawState::precision == Fast
     bool simdBlocks = true;  // DeviceConfig::simdBlocks
+    PixelWatch* watch = nullptr;  // Device::setPixelWatch
+    std::uint64_t drawNumber = 0;
+};
+
+// The watched pixel's record of one resolveSamples call: the texels before it, then after it
+// on destruction (every return path), appended to the watch.
+struct WatchRecord {
+    PixelWatch* watch = nullptr;  // null: not the watched pixel
+    PixelDrawEvent event;
+    const Surface* color = nullptr;
+    const Surface* depthStencil = nullptr;
+    std::uint32_t x = 0, y = 0;
+    WatchRecord() = default;
+    void begin(PixelWatch* w, const Surface* colorTarget, const Surface* ds, std::uint32_t px, std::uint32_t py) {
+        watch = w;
+        color = colorTarget;
+        depthStencil = ds;
+        x = px;
+        y = py;
+        if (color) {
+            event.colorFormat = color->format();
+            std::memcpy(event.colorBefore.data(), color->texel(x, y), formatInfo(color->format()).bytesPerTexel);
+        }
+        if (depthStencil) {
+            event.depthFormat = depthStencil->format();
+            std::memcpy(event.depthBefore.data(), depthStencil->texel(x, y), formatInfo(depthStencil->format()).bytesPerTexel);
+        }
+    }
+    WatchRecord(const WatchRecord&) = delete;
+    WatchRecord& operator=(const WatchRecord&) = delete;
+    ~WatchRecord() {
+        if (!watch) return;
+        if (color) std::memcpy(event.colorAfter.data(), color->texel(x, y), formatInfo(color->format()).bytesPerTexel);
+        if (depthStencil)
+            std::memcpy(event.depthAfter.data(), depthStencil->texel(x, y), formatInfo(depthStencil->format()).bytesPerTexel);
+        watch->events.push_back(event);
+    }
 };
 
 // Rasterizes the tile's triangles in submission order. Edge functions are stepped, not
@@ -310,6 +351,10 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
         for (std::size_t c = 0; c < 4; ++c) stash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
         stash.pending[rt] |= std::uint64_t(1) << lane;
     };
+    // The watched pixel (Device::setPixelWatch), when it lies in this tile: its quads skip the
+    // SIMD blocks and record what happens to it.
+    const bool watchHere = dc.watch && std::int32_t(dc.watch->x) >= tile.minX && std::int32_t(dc.watch->x) < tile.maxX &&
+                           std::int32_t(dc.watch->y) >= tile.minY && std::int32_t(dc.watch->y) < tile.maxY;
     for (std::size_t k = 0; k < list.size(); ++k) {
         if (k + kAheadTri < list.size()) {
             const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
@@ -418,6 +463,16 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                           float xWin, float yWin, float zPs) {
                     [[maybe_unused]] PixelOutput<kTargets> out;
                     bool shaded = false;
+                    std::optional<WatchRecord> watched;  // engaged only at the watched pixel
+                    if (watchHere && px == dc.watch->x && py == dc.watch->y) [[unlikely]] {
+                        watched.emplace();
+                        watched->begin(dc.watch, kTargets > 0 ? dc.colors[0] : nullptr, dc.depthStencil, px, py);
+                        watched->event.draw = dc.drawNumber;
+                        watched->event.primitive = t.primitive;
+                        watched->event.coverage = mask;
+                        watched->event.frontFacing = front;
+                        watched->event.z = zSample[std::countr_zero(mask)];
+                    }
                     auto shade = [&] {
                         if constexpr (kHasPs) {
                             PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
@@ -425,6 +480,11 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             ps(in, out);
                             ++counters.psInvocations;
                             shaded = true;
+                            if (watched) [[unlikely]] {
+                                watched->event.shaded = true;
+                                watched->event.discarded = out.discarded;
+                                if constexpr (kTargets > 0) watched->event.output = out.target[0];
+                            }
                         }
                     };
                     if constexpr (kWritesDepth) {
@@ -481,6 +541,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                         }
                     }
                     counters.samplesPassed += passCount;
+                    if (watched) [[unlikely]] watched->event.passed = passMask;
                 };
                 if constexpr (kPerSample) {
                     for (std::uint32_t s = 0; s < sampleCount; ++s) {
@@ -514,7 +575,9 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                 if constexpr (kSingleSample && kBlockVaryings) {
                     // The SIMD block (quad_block.h): the same values as the per-quad path below, bit
                     // for bit, 64 pixels at a time. Used where enough of the block lies in r.
-                    if (dc.simdBlocks && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels) {
+                    const bool blockWatched = watchHere && std::int32_t(dc.watch->x) >= bx && std::int32_t(dc.watch->x) < xEnd &&
+                                              std::int32_t(dc.watch->y) >= by && std::int32_t(dc.watch->y) < yEnd;
+                    if (dc.simdBlocks && !blockWatched && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels) {
                         const QuadBlock::Edges edges{{eQuadRow[0], eQuadRow[1], eQuadRow[2]},
                                                      {stepX[0], stepX[1], stepX[2]},
                                                      {stepY[0], stepY[1], stepY[2]}};
@@ -782,6 +845,8 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
                                state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
                                standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
                                mConfig.simdBlocks};
+        dc.watch = mWatch;
+        dc.drawNumber = mDrawCount++;
         bool blends = false;
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
             dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];

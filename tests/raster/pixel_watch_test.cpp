@@ -1,0 +1,114 @@
+// Device::setPixelWatch (raster/pixel_watch.h): the watched pixel's events name the draw and
+// primitive, the coverage, the depth outcome, the shader output and the texels before and after,
+// in order; the last event's texels are the final buffers'; SIMD blocks on or off change nothing.
+#include <doctest/doctest.h>
+
+#include <cstring>
+
+#include "support/test_draw.h"
+
+using namespace tessera;
+using namespace tessera::test;
+
+namespace {
+
+constexpr std::uint32_t kSize = 32;  // px; one 64 px tile, the watched pixel inside 8x8 blocks
+
+// Two full-screen triangles per draw (a quad) at window depth z, colour c.
+std::vector<ColorVertex> quadAt(float z, glm::vec4 c) {
+    const glm::vec4 p00 = windowToClip(0, 0, kSize, kSize, z), p10 = windowToClip(kSize, 0, kSize, kSize, z);
+    const glm::vec4 p01 = windowToClip(0, kSize, kSize, kSize, z), p11 = windowToClip(kSize, kSize, kSize, kSize, z);
+    return {{p00, c}, {p10, c}, {p01, c}, {p10, c}, {p11, c}, {p01, c}};
+}
+
+SurfaceDesc desc(Format format) {
+    SurfaceDesc d;
+    d.width = kSize;
+    d.height = kSize;
+    d.format = format;
+    d.sampleCount = 1;
+    return d;
+}
+
+struct Result {
+    Surface color = Surface(desc(Format::R8G8B8A8_UNORM));
+    Surface depth = Surface(desc(Format::D24_UNORM_S8_UINT));
+    PixelWatch watch;
+};
+
+void render(bool simd, Result& r) {
+    r.watch.x = 13;
+    r.watch.y = 21;  // below the diagonal: primitive 1 of each quad
+    r.color.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    r.depth.clearDepthStencil(true, 1.0f, true, 0);
+    DeviceConfig config{64, 2};
+    config.simdBlocks = simd;
+    Device device(config);
+    device.setPixelWatch(&r.watch);
+    RenderTargets rt;
+    rt.colors[0] = &r.color;
+    rt.depthStencil = &r.depth;
+    DrawState st;
+    st.viewport = fullViewport(r.color);
+    st.rasterizer.cullMode = CullMode::None;
+    const auto near = quadAt(0.5f, {1.0f, 0.0f, 0.0f, 1.0f}), far = quadAt(0.75f, {0.0f, 1.0f, 0.0f, 1.0f});
+    device.draw(st, rt, std::span<const ColorVertex>(near), {}, PassThroughVS{}, ColorPS{});  // draw 0: written
+    device.draw(st, rt, std::span<const ColorVertex>(far), {}, PassThroughVS{}, ColorPS{});   // draw 1: fails LESS
+    st.blend.renderTarget[0] = kAlphaBlend;
+    st.depthStencil.depthWriteEnable = false;
+    const auto blended = quadAt(0.25f, {0.0f, 0.0f, 1.0f, 0.5f});
+    device.draw(st, rt, std::span<const ColorVertex>(blended), {}, PassThroughVS{}, ColorPS{});  // draw 2: blends
+}
+
+std::uint32_t d24(const std::array<std::byte, 8>& texel) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, texel.data(), 4);
+    return bits & 0xFFFFFFu;
+}
+
+} // namespace
+
+TEST_CASE("pixel watch: draws, primitives, depth outcome, shader output and texels before/after at one pixel") {
+    Result r;
+    render(true, r);
+    const auto& e = r.watch.events;
+    REQUIRE(e.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+        CAPTURE(i);
+        CHECK(e[i].draw == i);
+        CHECK(e[i].primitive == 1);
+        CHECK(e[i].coverage == 1u);
+        CHECK(e[i].shaded == (i != 1));  // draw 1 fails the early depth test: its shader never runs
+        CHECK(e[i].colorFormat == Format::R8G8B8A8_UNORM);
+        CHECK(e[i].depthFormat == Format::D24_UNORM_S8_UINT);
+    }
+    // Draw 0: the cleared depth (code 2^24 - 1) becomes 0.5 (code 8388608 = round(0.5 * (2^24 - 1))); red written.
+    CHECK(e[0].passed == 1u);
+    CHECK(d24(e[0].depthBefore) == 0xFFFFFFu);
+    CHECK(d24(e[0].depthAfter) == 8388608u);
+    CHECK(std::to_integer<int>(e[0].colorAfter[0]) == 255);
+    CHECK(e[0].output == glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    // Draw 1: z 0.75 fails LESS against 0.5: nothing changes.
+    CHECK(e[1].z == 0.75f);
+    CHECK(e[1].passed == 0u);
+    CHECK(e[1].depthAfter == e[1].depthBefore);
+    CHECK(e[1].colorAfter == e[1].colorBefore);
+    // Draw 2: blue at alpha 0.5 over red: 0.5 * 255 = 127.5 -> 128 blue, red 1 * 0.5 -> 128; depth kept.
+    CHECK(e[2].passed == 1u);
+    CHECK(e[2].colorBefore == e[1].colorAfter);
+    CHECK(std::to_integer<int>(e[2].colorAfter[0]) == 128);
+    CHECK(std::to_integer<int>(e[2].colorAfter[2]) == 128);
+    CHECK(e[2].depthAfter == e[2].depthBefore);
+    // The last event's texels are the final buffers'.
+    CHECK(std::memcmp(e[2].colorAfter.data(), r.color.texel(13, 21), 4) == 0);
+    CHECK(std::memcmp(e[2].depthAfter.data(), r.depth.texel(13, 21), 4) == 0);
+    // SIMD blocks on or off: the same events and bytes (the watched pixel takes the per-quad path).
+    Result scalar;
+    render(false, scalar);
+    REQUIRE(scalar.watch.events.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+        CHECK(scalar.watch.events[i].colorAfter == e[i].colorAfter);
+        CHECK(scalar.watch.events[i].depthAfter == e[i].depthAfter);
+    }
+    CHECK(std::memcmp(scalar.color.bytes().data(), r.color.bytes().data(), r.color.bytes().size()) == 0);
+}
