@@ -161,6 +161,7 @@ struct RenderOptions {
     std::vector<std::string> dumpAfter;  // pass names
     std::vector<std::uint32_t> dumpLights;  // light indices
     float exposure = 1.0f;
+    std::uint32_t viewTileSize = 0;  // the technique's light-grid tile, for the overlay views (0: none)
     std::optional<std::array<std::uint32_t, 2>> probe;  // --probe X,Y: window px
     bool probeJson = false;
     tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
@@ -371,6 +372,15 @@ void dumpRegistry(const tessera::BufferRegistry& registry, const fs::path& dir, 
             };
             addView(tessera::ViewChannel::Depth, "");
             if (tessera::formatInfo(s.format()).hasStencil) addView(tessera::ViewChannel::Stencil, ".stencil");
+            if (name.rfind("gbuffer.", 0) == 0) addView(tessera::ViewChannel::Alpha, ".alpha");  // opacity, packed power
+            // Light counts over the image (the tiled techniques' grids; --tile-size of the technique).
+            const tessera::Surface* back = registry.find(tessera::kBackBufferName);
+            if (name.rfind("lightgrid", 0) == 0 && back && o.viewTileSize)
+                if (const auto overlay = tessera::overlayTileCounts(s, o.viewTileSize, *back)) {
+                    const std::string viewFile = "view/" + name + ".overlay.png";
+                    written.push_back({(dir / viewFile).string(), tessera::writeSurface(overlay->image, dir / viewFile)});
+                    viewEntries.push_back({{"file", viewFile}, {"rule", overlay->rule}});
+                }
             if (!viewEntries.empty()) entry["views"] = viewEntries;
         }
         buffers.push_back(entry);
@@ -586,7 +596,7 @@ int renderBuiltin(const RenderOptions& o) {
 
 int render(const std::vector<std::string_view>& args) {
     bool help = false;
-    const RenderOptions o = parseRenderArgs(args, help);
+    RenderOptions o = parseRenderArgs(args, help);
     if (help) {
         std::fputs(kRenderUsage, stdout);
         return 0;
@@ -606,6 +616,12 @@ int render(const std::vector<std::string_view>& args) {
         if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
     }
     applyOptionArgs(o, desc.technique, desc.techniqueOptions);
+    if (desc.technique == "forward-plus" || desc.technique == "forward-plus-amd") {
+        o.viewTileSize = desc.technique == "forward-plus-amd" ? 8u : 16u;
+        if (desc.techniqueOptions.is_object() && desc.techniqueOptions.contains("tileSize") &&
+            desc.techniqueOptions["tileSize"].is_number_unsigned())
+            o.viewTileSize = desc.techniqueOptions["tileSize"].get<std::uint32_t>();
+    }
     if (!o.dumpLights.empty() && desc.technique != "deferred" && desc.technique != "deferred-killzone")
         throw UsageError("--dump-lights: " + desc.technique +
                          " does not shade light by light (deferred and deferred-killzone do); --dump-after shows its passes");

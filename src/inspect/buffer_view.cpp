@@ -39,6 +39,34 @@ Surface makeImage(const Surface& s, bool bar) {
 
 } // namespace
 
+std::optional<BufferView> overlayTileCounts(const Surface& grid, std::uint32_t tileSizePx, const Surface& image) {
+    if (tileSizePx == 0 || formatInfo(grid.format()).kind != FormatKind::Uint || formatInfo(grid.format()).channels < 2 ||
+        image.format() != Format::R8G8B8A8_UNORM)
+        return std::nullopt;
+    const std::uint32_t w = image.width(), h = image.height();
+    if ((w + tileSizePx - 1) / tileSizePx != grid.width() || (h + tileSizePx - 1) / tileSizePx != grid.height()) return std::nullopt;
+    std::uint32_t maxCount = 0;
+    for (std::uint32_t ty = 0; ty < grid.height(); ++ty)
+        for (std::uint32_t tx = 0; tx < grid.width(); ++tx) maxCount = std::max(maxCount, decodeTexelUint(grid.format(), grid.texel(tx, ty)).y);
+    BufferView v{makeImage(image, true), {}};
+    for (std::uint32_t y = 0; y < h; ++y)
+        for (std::uint32_t x = 0; x < w; ++x) {
+            const std::uint32_t count = decodeTexelUint(grid.format(), grid.texel(x / tileSizePx, y / tileSizePx)).y;
+            const std::uint32_t heat = heatColor(maxCount ? float(double(count) / double(maxCount)) : 0.0f);
+            std::uint32_t rgb = 0;
+            for (int c = 0; c < 3; ++c) {
+                const std::uint32_t under = std::to_integer<std::uint32_t>(image.texel(x, y)[c]);
+                rgb |= (((under + ((heat >> (8 * c)) & 0xFFu) + 1) / 2) & 0xFFu) << (8 * c);
+            }
+            store(v.image, x, y, rgb);
+        }
+    for (std::uint32_t x = 0; x < w; ++x)
+        for (std::uint32_t r = 0; r < kBarRows; ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+    v.rule = "lights per " + std::to_string(tileSizePx) + " px tile on the heat ramp (black 0 .. white " + std::to_string(maxCount) +
+             "), averaged with the image; the bar below runs 0.." + std::to_string(maxCount);
+    return v;
+}
+
 std::uint32_t heatColor(float t) {
     if (!(t > 0.0f)) return 0;
     t = std::min(t, 1.0f);
@@ -56,6 +84,23 @@ std::uint32_t heatColor(float t) {
 std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, ViewChannel channel, float exposure) {
     const FormatInfo& info = formatInfo(s.format());
     const std::uint32_t w = s.width(), h = s.height();
+    if (channel == ViewChannel::Alpha) {
+        if (info.hasDepth || info.kind == FormatKind::Uint || info.channels < 4) return std::nullopt;
+        float maxAlpha = 1.0f;
+        for (std::uint32_t y = 0; y < h; ++y)
+            for (std::uint32_t x = 0; x < w; ++x) {
+                const float a = s.load(x, y).w;
+                if (a > maxAlpha && std::isfinite(a)) maxAlpha = a;
+            }
+        BufferView v{makeImage(s, false), {}};
+        for (std::uint32_t y = 0; y < h; ++y)
+            for (std::uint32_t x = 0; x < w; ++x) {
+                const float a = s.load(x, y).w / maxAlpha;
+                store(v.image, x, y, packRgb(std::isnan(a) ? 0.0f : a, std::isnan(a) ? 0.0f : a, std::isnan(a) ? 0.0f : a));
+            }
+        v.rule = "alpha channel as grey over [0, " + std::to_string(maxAlpha) + "] (black 0, white " + std::to_string(maxAlpha) + ")";
+        return v;
+    }
     if (info.hasDepth && channel == ViewChannel::Stencil) {
         if (!info.hasStencil) return std::nullopt;
         std::uint32_t maxValue = 0;

@@ -84,3 +84,27 @@ TEST_CASE("buffer view: normals as n * 0.5 + 0.5, colours scaled by the exposure
     CHECK(heatColor(0.0f) == 0u);
     CHECK(heatColor(1.0f) == 0xFFFFFFu);
 }
+
+TEST_CASE("buffer view: a G-buffer's alpha alone, and tile light counts averaged over the image") {
+    Surface spec({2, 1, Format::R32G32B32A32_FLOAT, 1});
+    spec.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, 250.0f));  // an unpacked specular power
+    encodeTexel(Format::R32G32B32A32_FLOAT, glm::vec4(0.0f, 0.0f, 0.0f, 125.0f), spec.texel(0, 0));
+    const auto alpha = viewBuffer("gbuffer.specular", spec, ViewChannel::Alpha);
+    REQUIRE(alpha);
+    CHECK(rgbAt(alpha->image, 1, 0) == 0xFFFFFFu);  // the max
+    CHECK(rgbAt(alpha->image, 0, 0) == 0x808080u);  // 125 / 250 = 0.5 -> 128
+    CHECK_FALSE(viewBuffer("depth", Surface({1, 1, Format::D32_FLOAT, 1}), ViewChannel::Alpha));
+
+    // A 2x1 grid of 4 px tiles over an 8x4 black image: counts 0 and 6.
+    Surface grid({2, 1, Format::R32G32_UINT, 1});
+    encodeTexelUint(Format::R32G32_UINT, glm::uvec4(0, 0, 0, 1), grid.texel(0, 0));
+    encodeTexelUint(Format::R32G32_UINT, glm::uvec4(0, 6, 0, 1), grid.texel(1, 0));
+    Surface image({8, 4, Format::R8G8B8A8_UNORM, 1});
+    image.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    const auto overlay = overlayTileCounts(grid, 4, image);
+    REQUIRE(overlay);
+    CHECK(overlay->image.height() == 4 + 8);
+    CHECK(rgbAt(overlay->image, 1, 1) == 0u);         // count 0 over black
+    CHECK(rgbAt(overlay->image, 6, 2) == 0x808080u);  // white heat averaged with black: (0 + 255 + 1) / 2 = 128
+    CHECK_FALSE(overlayTileCounts(grid, 8, image));   // 8 px tiles would make a 1x1 grid
+}

@@ -18,7 +18,10 @@ struct BufferView {
     std::string rule;  // how a pixel of `image` reads, in one line
 };
 
-enum class ViewChannel : std::uint8_t { Depth, Stencil };
+// Which picture of a buffer: its main view (Depth is that for every format; the name says what
+// it shows for depth formats), its stencil, or a colour format's alpha channel alone (G-buffers
+// keep data there: opacity, the packed specular power).
+enum class ViewChannel : std::uint8_t { Depth, Stencil, Alpha };
 
 // The picture of `surface` (sample 0), chosen by format and name:
 //  - depth (ViewChannel::Depth of a depth format): covered depths (< 1) stretched over their
@@ -29,9 +32,16 @@ enum class ViewChannel : std::uint8_t { Depth, Stencil };
 //    with a colour bar; for "lightgrid*" buffers (offset, count) the count, else channel 0;
 //  - float / SNORM / packed formats: names containing "normal" as n * 0.5 + 0.5, others
 //    rgb * exposure clamped to [0, 1] (one channel as grey);
-//  - R8G8B8A8 formats: nullopt (the dump is already viewable).
+//  - R8G8B8A8 formats: nullopt (the dump is already viewable);
+//  - ViewChannel::Alpha of a colour format: alpha as grey over [0, 1], or over [0, max] when the
+//    alpha exceeds 1 (a float G-buffer's unpacked specular power); nullopt for other formats.
 std::optional<BufferView> viewBuffer(std::string_view name, const Surface& surface, ViewChannel channel = ViewChannel::Depth,
                                      float exposure = 1.0f);
+
+// The light count of each tile (a light grid of (offset, count) texels, one per tileSizePx tile)
+// as the heat ramp blended half and half over `image` (an RGBA8 buffer of the frame's size), so the
+// counts sit on the geometry they belong to; a colour bar below. nullopt when the sizes disagree.
+std::optional<BufferView> overlayTileCounts(const Surface& grid, std::uint32_t tileSizePx, const Surface& image);
 
 // The heat ramp of viewBuffer for t in [0, 1] (0 black, 1 white), as 8-bit RGB in one word
 // (R in the low byte).
