@@ -120,6 +120,7 @@ struct Shot {
 struct PassReport {
     std::string name;
     double ms = 0.0;
+    double bufferMiB = 0.0;  // every named buffer alive after the pass
     std::vector<std::string> reads, writes;
     std::vector<Shot> shots;
 };
@@ -255,7 +256,8 @@ int reportCommand(const std::vector<std::string_view>& args) {
         BufferRegistry registry;
         std::size_t passIndex = 0;
         const std::vector<PassTiming> timings = frame.run(registry, [&](const Pass& pass, const BufferRegistry& reg) {
-            PassReport pr{pass.name, 0.0, pass.reads, pass.writes, {}};
+            PassReport pr{pass.name, 0.0, 0.0, pass.reads, pass.writes, {}};
+            for (const std::string& name : reg.names()) pr.bufferMiB += double(reg.find(name)->bytes().size()) / (1024.0 * 1024.0);
             const std::string folder = tr.id + "/" + std::to_string(passIndex++) + "-" + folderName(pass.name);
             for (const std::string& name : pass.writes)
                 if (const Surface* s = reg.find(name))
@@ -332,8 +334,8 @@ window.addEventListener('load', function () {
                 html(tr.source) + ")</span></p>\n";
         page += shotsHtml({{tr.finalFile, "the back buffer after the last pass", "final image"}});
         for (const PassReport& p : tr.passes) {
-            char ms[64];
-            std::snprintf(ms, sizeof(ms), "%.2f ms", p.ms);
+            char ms[96];
+            std::snprintf(ms, sizeof(ms), "%.2f ms; buffers alive %.2f MiB", p.ms, p.bufferMiB);
             std::string reads, writes;
             for (const std::string& r : p.reads) reads += (reads.empty() ? "" : ", ") + r;
             for (const std::string& w : p.writes) writes += (writes.empty() ? "" : ", ") + w;
