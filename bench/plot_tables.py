@@ -111,6 +111,54 @@ def culling(lines, out):
     plt.close(fig)
 
 
+def culling_vs_lights(lines, out):
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
+    for scenario, marker in [("large", "o"), ("small", "s")]:
+        heading = "**forward-plus light culling, %s lights, 16 px tiles** (ms; culling pass only)" % scenario
+        header, rows = table_after(lines, heading, "lights")
+        lights = [number(r[0]) for r in rows]
+        axes[0].plot(lights, [number(r[2]) for r in rows], marker + "-", label="tessera, 2 threads, %s lights" % scenario)
+        gtx = [(x, number(r[6])) for x, r in zip(lights, rows) if number(r[6]) is not None]
+        axes[0].plot([g[0] for g in gtx], [g[1] for g in gtx], marker + "--", label="GTX 680 (the article), %s lights" % scenario)
+        axes[1].plot(lights, [number(r[5]) for r in rows], marker + "-", label="%s lights" % scenario)
+    for ax in axes:
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("lights")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("culling ms (1280x720, 16 px tiles)")
+    axes[0].set_title("Forward+ light culling time")
+    axes[1].set_ylabel("false positives, % of listed entries")
+    axes[1].set_title("Lights listed in a tile that reach none of its pixels")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "culling-vs-lights.png"), dpi=90)
+    plt.close(fig)
+
+
+def culling_by_tile(lines, out):
+    header, rows = table_after(lines, "**Tile size** (forward-plus, culling ms at 1 / 2 threads, opaque lights per tile mean / max, "
+                                      "false positives)", "scenario")
+    sizes = [number(h) for h in header[2:]]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for r in rows:
+        # "29.63 / 15.87 ms; ...": the second number is the 2-thread time
+        ms = [float(re.findall(r"\d+(?:\.\d+)?", c)[1]) for c in r[2:]]
+        ax.plot(sizes, ms, "o-", label="%s lights, %s" % (r[1], r[0]))
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xticks(sizes)
+    ax.set_xticklabels(["%d px" % s for s in sizes])
+    ax.set_xlabel("tile edge")
+    ax.set_ylabel("culling ms, 2 threads")
+    ax.set_title("Forward+ culling time by tile size (Sponza 1280x720)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "culling-by-tile.png"), dpi=90)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--results", default=os.path.join(REPO, "bench", "RESULTS.md"))
@@ -122,7 +170,10 @@ def main():
     article_sweep(lines, args.out)
     scaling(lines, args.out)
     culling(lines, args.out)
-    print("plot_tables.py: wrote article-sweep.png, scaling.png, culling-scaling.png to " + args.out)
+    culling_vs_lights(lines, args.out)
+    culling_by_tile(lines, args.out)
+    print("plot_tables.py: wrote article-sweep.png, scaling.png, culling-scaling.png, culling-vs-lights.png, "
+          "culling-by-tile.png to " + args.out)
 
 
 if __name__ == "__main__":
