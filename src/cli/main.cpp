@@ -497,6 +497,17 @@ std::optional<tessera::PixelHistory> probeHistory(const RenderOptions& o, std::u
     return tessera::PixelHistory(x, y);
 }
 
+// The tile edge (px) of a technique's per-tile light lists: its "tileSize" option or the default
+// (16, forward-plus-amd's fixed 8); 0 for techniques without tiles.
+std::uint32_t lightGridTileSize(const tessera::SceneDescription& desc) {
+    if (desc.technique == "forward-plus-amd") return 8;
+    if (desc.technique != "forward-plus" && desc.technique != "tiled-deferred") return 0;
+    const nlohmann::json& options = desc.techniqueOptions;
+    if (options.is_object() && options.contains("tileSize") && options["tileSize"].is_number_unsigned())
+        return options["tileSize"].get<std::uint32_t>();
+    return 16;
+}
+
 std::string gCommandLine;  // "tessera render ...", for the manifest
 
 // The manifest's common part: what was rendered and how, the passes with their declared buffers,
@@ -616,12 +627,7 @@ int render(const std::vector<std::string_view>& args) {
         if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
     }
     applyOptionArgs(o, desc.technique, desc.techniqueOptions);
-    if (desc.technique == "forward-plus" || desc.technique == "forward-plus-amd") {
-        o.viewTileSize = desc.technique == "forward-plus-amd" ? 8u : 16u;
-        if (desc.techniqueOptions.is_object() && desc.techniqueOptions.contains("tileSize") &&
-            desc.techniqueOptions["tileSize"].is_number_unsigned())
-            o.viewTileSize = desc.techniqueOptions["tileSize"].get<std::uint32_t>();
-    }
+    o.viewTileSize = lightGridTileSize(desc);
     if (!o.dumpLights.empty() && desc.technique != "deferred" && desc.technique != "deferred-killzone")
         throw UsageError("--dump-lights: " + desc.technique +
                          " does not shade light by light (deferred and deferred-killzone do); --dump-after shows its passes");
@@ -742,12 +748,7 @@ int render(const std::vector<std::string_view>& args) {
             printHashes(written);
         }
         if (history) {
-            // The tile the pixel's light list comes from: the technique's tile edge.
-            std::uint32_t tileSizePx = desc.technique == "forward-plus-amd" ? 8u : 16u;
-            if (desc.techniqueOptions.is_object() && desc.techniqueOptions.contains("tileSize") &&
-                desc.techniqueOptions["tileSize"].is_number_unsigned())
-                tileSizePx = desc.techniqueOptions["tileSize"].get<std::uint32_t>();
-            history->addTileInfo(registry, tileSizePx);
+            history->addTileInfo(registry, lightGridTileSize(desc));
             if (o.probeJson) {
                 const nlohmann::json j{{"pixel", {(*o.probe)[0], (*o.probe)[1]}}, {"technique", desc.technique},
                                        {"events", history->events()}, {"final", history->last()}, {"tile", history->tile()}};
