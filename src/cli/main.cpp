@@ -65,6 +65,18 @@ SCENE is a scene file (.json), a glTF file (.gltf/.glb), the name of a bundled s
 `tessera <command> --help` lists the command's options.
 )";
 
+constexpr const char* kProbeUsage = R"(usage: tessera probe SCENE X Y [render options] [--json]
+
+Renders SCENE as `tessera render` does and prints the history of window pixel (X, Y), in pass and
+draw order: every primitive that covered it (coverage, depth and stencil outcome, the shader's
+inputs and output, what each light added or why it added nothing, the texels before and after),
+every buffer's value there after each pass and light step, and for the tiled techniques the
+pixel's tile (depth range, frustum planes, light list, lights culled).
+  --json        the same as one JSON object, for tools
+Every option of `tessera render` applies (see `tessera help render`); nothing is written unless
+--out or --dump is given.
+)";
+
 constexpr const char* kRenderUsage = R"(usage: tessera render [SCENE] [options]
 
 Renders SCENE (default: the bundled scene 'default') with its technique and writes the back
@@ -748,7 +760,7 @@ int render(const std::vector<std::string_view>& args) {
             printHashes(written);
         }
         if (history) {
-            history->addTileInfo(registry, lightGridTileSize(desc));
+            history->addTileInfo(registry, lightGridTileSize(desc), scene.lights.size());
             if (o.probeJson) {
                 const nlohmann::json j{{"pixel", {(*o.probe)[0], (*o.probe)[1]}}, {"technique", desc.technique},
                                        {"events", history->events()}, {"final", history->last()}, {"tile", history->tile()}};
@@ -943,7 +955,10 @@ int main(int argc, char** argv) {
         if (args[0] == "list") return list(rest);
         if (args[0] == "options") return options(rest);
         if (args[0] == "probe") {  // probe SCENE X Y [flags] = render SCENE --probe X,Y [--no-output] [flags]
-            if (rest.size() == 1 && (rest[0] == "--help" || rest[0] == "-h")) return render(rest);
+            if (rest.size() == 1 && (rest[0] == "--help" || rest[0] == "-h")) {
+                std::fputs(kProbeUsage, stdout);
+                return 0;
+            }
             if (rest.size() < 3) throw UsageError("probe needs SCENE X Y (window pixels)");
             const std::string xy = std::string(rest[1]) + "," + std::string(rest[2]);
             std::vector<std::string_view> renderArgs{rest[0], "--probe", xy};

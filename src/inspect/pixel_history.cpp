@@ -3,6 +3,8 @@
 
 #include <bit>
 #include <cstring>
+#include <limits>
+#include <set>
 
 #include <tessera/buffers/texel_codec.h>
 
@@ -68,21 +70,90 @@ nlohmann::json texelValue(Format format, const std::byte* bytes) {
     std::memcpy(one.texel(0, 0), bytes, formatInfo(format).bytesPerTexel);
     return pixelValue(one, 0, 0);
 }
+nlohmann::json vec(const glm::vec4& v, int n) {
+    nlohmann::json a = nlohmann::json::array();
+    for (int c = 0; c < n; ++c) a.push_back(v[c]);
+    return a;
+}
+
+// SV_Position, SV_SampleIndex and the varyings by name (v0, v1, ... when the type names none), in
+// declaration order: [{"name", "value"}, ...].
+nlohmann::json shaderInputs(const PixelDrawEvent& d) {
+    nlohmann::json in = nlohmann::json::array();
+    const auto add = [&in](std::string name, nlohmann::json value) {
+        in.push_back({{"name", std::move(name)}, {"value", std::move(value)}});
+    };
+    add("SV_Position", vec(d.posWindow, 4));
+    if (!d.compute) add("SV_SampleIndex", d.sampleIndex);
+    std::uint32_t at = 0;
+    for (const VaryingField& field : d.inputFields) {
+        nlohmann::json values = nlohmann::json::array();
+        for (std::uint32_t k = 0; k < field.floats && at < d.inputCount; ++k) values.push_back(d.inputs[at++]);
+        add(field.name, values.size() == 1 ? values[0] : values);
+    }
+    for (; at < d.inputCount; ++at) {
+        std::string name = std::to_string(at);
+        name.insert(name.begin(), 'v');  // not "v" + to_string: GCC 12's -Wrestrict misfires on it
+        add(std::move(name), d.inputs[at]);
+    }
+    return in;
+}
 } // namespace
+
+std::string lightTermWhy(const LightTerm& t) {
+    switch (t.skip) {
+    case LightTerm::Skip::Disabled: return "disabled";
+    case LightTerm::Skip::OutOfRange: return "out of range (distance " + nlohmann::json(t.distance).dump() + " >= range " +
+                                             nlohmann::json(t.range).dump() + ")";
+    case LightTerm::Skip::OutsideCone: return "outside the cone";
+    case LightTerm::Skip::None: break;
+    }
+    if (t.diffuse != glm::vec4(0.0f) || t.specular != glm::vec4(0.0f)) return {};
+    if (t.falloff == 0.0f) return "at the end of its falloff (attenuation 0 at distance " + nlohmann::json(t.distance).dump() + ")";
+    if (t.cone == 0.0f) return "outside the cone (cone factor 0)";
+    if (!(t.nDotL > 0.0f)) return "behind the surface (N.L = " + nlohmann::json(t.nDotL).dump() + " <= 0)";
+    return "adds 0 (zero colour or intensity)";
+}
+
+nlohmann::json lightTermJson(const LightTerm& t) {
+    nlohmann::json j{{"light", t.light}, {"nDotL", t.nDotL}, {"falloff", t.falloff}, {"cone", t.cone}};
+    if (t.distance != 0.0f || t.range != std::numeric_limits<float>::infinity()) {
+        j["distance"] = t.distance;
+        if (t.range != std::numeric_limits<float>::infinity()) j["range"] = t.range;
+    }
+    if (t.combined) {
+        j["added"] = vec(t.diffuse, 3);
+    } else {
+        j["diffuse"] = vec(t.diffuse, 4);
+        j["specular"] = vec(t.specular, 4);
+    }
+    if (const std::string why = lightTermWhy(t); !why.empty()) j["none"] = why;
+    return j;
+}
 
 void PixelHistory::addDrawEvents(std::string_view pass, PixelWatch& watch, long long light, std::string_view step) {
     for (; mWatchTaken < watch.events.size(); ++mWatchTaken) {
         const PixelDrawEvent& d = watch.events[mWatchTaken];
-        nlohmann::json e{{"pass", pass},
-                         {"draw", d.draw},
-                         {"primitive", d.primitive},
-                         {"face", d.frontFacing ? "front" : "back"},
-                         {"coverage", d.coverage},
-                         {"z", d.z},
-                         {"passed", d.passed},
-                         {"shaded", d.shaded},
-                         {"discarded", d.discarded}};
-        if (d.shaded) e["output"] = {d.output.x, d.output.y, d.output.z, d.output.w};
+        nlohmann::json e{{"pass", pass}, {"shaded", d.shaded}, {"discarded", d.discarded}};
+        if (d.compute) {
+            e["compute"] = true;
+        } else {
+            e["draw"] = d.draw;
+            e["primitive"] = d.primitive;
+            e["face"] = d.frontFacing ? "front" : "back";
+            e["coverage"] = d.coverage;
+            e["z"] = d.z;
+            e["passed"] = d.passed;
+        }
+        if (d.shaded) {
+            e["inputs"] = shaderInputs(d);
+            e["output"] = {d.output.x, d.output.y, d.output.z, d.output.w};
+        }
+        if (!d.lights.empty()) {
+            nlohmann::json lights = nlohmann::json::array();
+            for (const LightTerm& term : d.lights) lights.push_back(lightTermJson(term));
+            e["lights"] = lights;
+        }
         if (d.colorFormat != Format::Unknown)
             e["color"] = {{"before", texelValue(d.colorFormat, d.colorBefore.data())}, {"after", texelValue(d.colorFormat, d.colorAfter.data())}};
         if (d.depthFormat != Format::Unknown)
@@ -96,7 +167,7 @@ void PixelHistory::addDrawEvents(std::string_view pass, PixelWatch& watch, long 
     }
 }
 
-void PixelHistory::addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx) {
+void PixelHistory::addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx, std::size_t sceneLights) {
     // forward-plus / forward-plus-amd: lightgrid.opaque + lightindex.opaque; tiled-deferred:
     // tiles.grid + tiles.lightIndices. (offset, count) per tile; element e of a list at (e % W, e / W).
     const Surface* grid = registry.find("lightgrid.opaque");
@@ -117,6 +188,11 @@ void PixelHistory::addTileInfo(const BufferRegistry& registry, std::uint32_t til
         lights.push_back(decodeTexelUint(list->format(), list->texel(std::uint32_t(e % list->width()), std::uint32_t(e / list->width())))[0]);
     }
     mTile = {{"tile", {tx, ty}}, {"tileSizePx", tileSizePx}, {"listOffset", cell.x}, {"listCount", cell.y}, {"lights", lights}};
+    if (sceneLights > 0) {
+        std::set<std::uint32_t> listed;
+        for (const auto& l : lights) listed.insert(l.get<std::uint32_t>());
+        mTile["culled"] = sceneLights > listed.size() ? sceneLights - listed.size() : 0;
+    }
     if (const Surface* range = registry.find("tiles.depthRange"); range && tx < range->width() && ty < range->height()) {
         const glm::uvec4 bits = decodeTexelUint(range->format(), range->texel(tx, ty));
         mTile["depthRange"] = {std::bit_cast<float>(bits.x), std::bit_cast<float>(bits.y)};
@@ -136,12 +212,29 @@ std::string PixelHistory::text() const {
     for (const auto& e : mEvents) {
         std::string where = e["pass"].get<std::string>();
         if (e.contains("light")) where += " light " + std::to_string(e["light"].get<long long>()) + " " + e["step"].get<std::string>();
-        if (e.contains("draw")) {  // a rasterizer event
+        if (e.contains("compute")) {  // a compute pass's thread for the pixel
+            out += "  " + where + ": compute thread shades the pixel\n";
+        } else if (e.contains("draw")) {  // a rasterizer event
             out += "  " + where + ": draw " + std::to_string(e["draw"].get<std::uint64_t>()) + " primitive " +
                    std::to_string(e["primitive"].get<std::uint32_t>()) + " (" + e["face"].get<std::string>() + "), coverage " +
                    std::to_string(e["coverage"].get<std::uint32_t>()) + ", z " + e["z"].dump() + ", " +
                    (e["passed"].get<std::uint32_t>() ? "passed" : "failed") + (e["shaded"].get<bool>() ? ", shaded" : "") +
                    (e["discarded"].get<bool>() ? ", discarded" : "") + "\n";
+        }
+        if (e.contains("draw") || e.contains("compute")) {
+            if (e.contains("inputs"))
+                for (const auto& input : e["inputs"])
+                    out += "      in  " + input["name"].get<std::string>() + " " + input["value"].dump() + "\n";
+            if (e.contains("lights"))
+                for (const auto& l : e["lights"]) {
+                    out += "      light " + std::to_string(l["light"].get<std::uint32_t>()) + ": ";
+                    if (l.contains("none")) {
+                        out += "none, " + l["none"].get<std::string>() + "\n";
+                        continue;
+                    }
+                    out += l.contains("added") ? "added " + l["added"].dump() : "diffuse " + l["diffuse"].dump() + " specular " + l["specular"].dump();
+                    out += " (N.L " + l["nDotL"].dump() + ", falloff " + l["falloff"].dump() + ", cone " + l["cone"].dump() + ")\n";
+                }
             if (e.contains("output")) out += "      shader output " + e["output"].dump() + "\n";
             if (e.contains("depthStencil"))
                 out += "      depth/stencil " + e["depthStencil"]["before"].dump() + " -> " + e["depthStencil"]["after"].dump() + "\n";
@@ -151,7 +244,12 @@ std::string PixelHistory::text() const {
         out += "  " + where + ": " + e["buffer"].get<std::string>() + " " +
                (e.contains("before") ? e["before"].dump() + " -> " : std::string("= ")) + e["after"].dump() + "\n";
     }
-    if (!mTile.is_null()) out += "tile     " + mTile.dump() + "\n";
+    if (!mTile.is_null()) {
+        out += "tile     " + mTile.dump() + "\n";
+        if (mTile.contains("culled"))
+            out += "         " + std::to_string(mTile["culled"].get<std::size_t>()) +
+                   " of the scene's lights are not in this tile's list (culled): the shader never reads them\n";
+    }
     return out;
 }
 

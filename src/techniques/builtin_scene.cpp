@@ -23,6 +23,7 @@ struct SceneVertex {
 struct LitVaryings {
     glm::vec3 normalView;
     glm::vec4 color;
+    static constexpr std::array<VaryingField, 2> kFields{{{"normalView", 3}, {"color", 4}}};
 };
 
 struct SceneVS {

@@ -185,6 +185,7 @@ struct DeferredLightingPS {
     const LightingInputs* in = nullptr;
     const ViewLight<T>* light = nullptr;
     bool fast = false;
+    std::uint32_t lightIndex = 0;  // scene index of `light`, for a pixel watch's LightTerm
     void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<kTargets>& out) const {
         // int2 texCoord = IN.position.xy (truncation: the pixel's integer corner).
         const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
@@ -214,6 +215,9 @@ struct DeferredLightingPS {
         } else {
             shade.template operator()<false>();
         }
+        if (std::vector<LightTerm>* trace = watchedLightTerms()) [[unlikely]]
+            trace->push_back(fast ? describeLight<T, true>(lightIndex, *light, posView, normalView, lit)
+                                  : describeLight<T, false>(lightIndex, *light, posView, normalView, lit));
         if constexpr (kTargets == 1) {
             out.target[0] = glm::vec4(diffuse * lit.diffuse + specular * lit.specular);
         } else {
@@ -401,7 +405,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         const ViewLight<T>* viewLight;
         if constexpr (std::is_same_v<T, float>) viewLight = &fwd.lightsExact[i];
         else viewLight = &fwd.lightsReference[i];
-        const PS ps{&setup.inputs, viewLight, fwd.precision == Precision::Fast};
+        const PS ps{&setup.inputs, viewLight, fwd.precision == Precision::Fast, std::uint32_t(i)};
         if (drawnAsQuad(light)) {
             // DeferredLightingPass::Render clears the stencil for every enabled light; the
             // directional pipeline does not use it.

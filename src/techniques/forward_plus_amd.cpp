@@ -306,23 +306,25 @@ struct AmdScenePS {
                 if (!pixelUsesNearHalfAmd(viewZ, halfZAmd(minZ, maxZ))) list = lists.tileLightsFar(tile);
             }
             const AmdLightTable& table = shade.state->table;
+            std::vector<LightTerm>* const trace = watchedLightTerms();
             for (std::uint32_t index : list) {  // the point-light loop
                 if (table.kind[index] != AmdKind::Point) continue;
                 const AmdPointLight<float>& p = table.points[index];
-                const AmdLightingResult<T> r = amdPointLight(
-                    AmdPointLight<T>{Vec3<T>(p.centerWorld), T(p.radius), Vec3<T>(p.color)}, posWorld, normalWorld, viewDir);
+                const AmdPointLight<T> light{Vec3<T>(p.centerWorld), T(p.radius), Vec3<T>(p.color)};
+                const AmdLightingResult<T> r = amdPointLight(light, posWorld, normalWorld, viewDir);
                 accum.diffuse += r.diffuse;
                 accum.specular += r.specular;
+                if (trace) [[unlikely]] trace->push_back(amdDescribePoint(index, light, posWorld, normalWorld, r));
             }
             for (std::uint32_t index : list) {  // the spot-light loop
                 if (table.kind[index] != AmdKind::Spot) continue;
                 const AmdSpotLight<float>& sp = table.spots[index];
-                const AmdLightingResult<T> r =
-                    amdSpotLight(AmdSpotLight<T>{Vec3<T>(sp.boundingCenterWorld), T(sp.boundingRadius), Vec3<T>(sp.color),
-                                                 Vec4<T>(sp.spotParams)},
-                                 posWorld, normalWorld, viewDir);
+                const AmdSpotLight<T> light{Vec3<T>(sp.boundingCenterWorld), T(sp.boundingRadius), Vec3<T>(sp.color),
+                                            Vec4<T>(sp.spotParams)};
+                const AmdLightingResult<T> r = amdSpotLight(light, posWorld, normalWorld, viewDir);
                 accum.diffuse += r.diffuse;
                 accum.specular += r.specular;
+                if (trace) [[unlikely]] trace->push_back(amdDescribeSpot(index, light, posWorld, normalWorld, r));
             }
         }
         const Vec3<T> rgb = amdComposePixel(accum, normalWorld, Vec3<T>(glm::vec3(diffuseTex)), specMask,

@@ -17,6 +17,7 @@ struct PreviewVaryings {
     glm::vec3 normalWorld;
     glm::vec2 uv0;
     glm::vec2 uv1;
+    static constexpr std::array<VaryingField, 4> kFields{{{"posWorld", 3}, {"normalWorld", 3}, {"uv0", 2}, {"uv1", 2}}};
 };
 
 struct PreviewVS {

@@ -211,6 +211,7 @@ struct TiledSetup {
     std::vector<std::vector<std::uint32_t>> lists;
     std::vector<std::uint32_t> appended;  // sTileNumLights after the loop (may exceed the capacity)
     std::vector<TileDepthBits> ranges;
+    PixelWatch* watch = nullptr;  // Device::pixelWatch during the dispatch (tessera probe)
 };
 
 // Pixel (x, y) of the tile: 3dgep's DoLighting over the tile's lights and forward's final
@@ -247,6 +248,46 @@ void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<T>> lights, s
 // G-buffer, AccumulateBRDF over the tile's list, WriteSample(float4(lit, 1)) or 0 with no lights.
 // T = double (reference): the same from the G-buffer's float values; the reference buffer gets
 // what the present pass makes of it without the half-float "lit" and the 8-bit rounding.
+// The scene's spot cone on Intel's light (3dgep's DoSpotCone: tessera's spot lights under Intel
+// shading); directionToLight is the normalised left-handed L, flipped to the right-handed -L.
+template <class T, bool kFast>
+T intelSpotCone(const IntelLight& light, const Vec3<T>& directionToLight) {
+    ViewLight<T> spot;
+    spot.directionView = Vec4<T>(light.spot->directionView);
+    spot.spotlightAngleDeg = T(light.spot->spotlightAngleDeg);
+    if constexpr (std::is_same_v<T, float>) {  // the per-frame cone constants (viewLights)
+        spot.spotMinCos = light.spot->spotMinCos;
+        spot.spotMaxCos = light.spot->spotMaxCos;
+    }
+    return doSpotCone<T, kFast>(spot, Vec4<T>(directionToLight.x, directionToLight.y, -directionToLight.z, T(0)));
+}
+
+// What one light added at the watched pixel under Intel's shading (AccumulateBRDF adds one colour
+// per light, albedo included: LightTerm::combined), with the distance and falloff it used.
+template <class T, bool kFast>
+LightTerm describeIntelLight(std::uint32_t index, const IntelLight& light, const Vec3<T>& posViewLh, const Vec3<T>& normalLh,
+                             const Vec3<T>& added) {
+    LightTerm term;
+    term.light = index;
+    term.combined = true;
+    term.diffuse = glm::vec4(glm::vec3(added), 0.0f);
+    if (light.directional) {
+        term.nDotL = float(hlsl::dot(normalLh, Vec3<T>(light.lightDirLh)));
+        return term;
+    }
+    const Vec3<T> toLight = Vec3<T>(light.point.positionView) - posViewLh;
+    const T distance = std::sqrt(hlsl::dot(toLight, toLight));
+    term.distance = float(distance);
+    term.nDotL = float(hlsl::dot(normalLh, toLight / distance));
+    if (light.infinite) return term;  // no falloff and no cone (shadePixelIntel)
+    if (light.spot) term.cone = float(intelSpotCone<T, kFast>(light, Vec3<T>(toLight * (T(1) / distance))));
+    term.range = light.point.attenuationEnd;
+    if (distance < T(light.point.attenuationEnd))
+        term.falloff = float(linstep(T(light.point.attenuationEnd), T(light.point.attenuationBegin), distance));
+    else term.skip = LightTerm::Skip::OutOfRange;
+    return term;
+}
+
 template <class T, bool kFast>
 void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y) {
     const bool sky = !(s.depthView.load(x, y) < 1.0f);  // the present pass keeps the clear colour there
@@ -271,8 +312,10 @@ void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, s
     const Vec3<T> albedo(glm::vec3(s.diffuse.load(x, y)));
     const T specularAmount(kIntelSpecularAmount), specularPower(kIntelSpecularPower);
     Vec3<T> lit(T(0));
+    std::vector<LightTerm>* const trace = watchedLightTerms();
     for (const std::uint32_t index : list) {
         const IntelLight& light = s.intelLights[index];
+        const Vec3<T> litBefore = lit;
         const Vec3<T> color(light.point.color);
         if (light.directional) {
             intelAccumulate<T, kFast>(normalLh, Vec3<T>(light.lightDirLh), normalize3(posViewLh), color, albedo, specularAmount,
@@ -291,23 +334,41 @@ void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, s
             if (distanceToLight < T(light.point.attenuationEnd)) {
                 const T attenuation = linstep(T(light.point.attenuationEnd), T(light.point.attenuationBegin), distanceToLight);
                 directionToLight *= T(1) / distanceToLight;
-                ViewLight<T> spot;
-                spot.directionView = Vec4<T>(light.spot->directionView);
-                spot.spotlightAngleDeg = T(light.spot->spotlightAngleDeg);
-                if constexpr (std::is_same_v<T, float>) {  // the per-frame cone constants (viewLights)
-                    spot.spotMinCos = light.spot->spotMinCos;
-                    spot.spotMaxCos = light.spot->spotMaxCos;
-                }
-                const T cone = doSpotCone<T, kFast>(spot, Vec4<T>(directionToLight.x, directionToLight.y, -directionToLight.z, T(0)));
+                const T cone = intelSpotCone<T, kFast>(light, directionToLight);
                 intelAccumulate<T, kFast>(normalLh, directionToLight, normalize3(posViewLh), attenuation * color * cone, albedo,
                                           specularAmount, specularPower, lit);
             }
         } else {
             accumulateBrdf<T, kFast>(posViewLh, normalLh, albedo, specularAmount, specularPower, light.point, lit);
         }
+        if (trace) [[unlikely]] trace->push_back(describeIntelLight<T, kFast>(index, light, posViewLh, normalLh, lit - litBefore));
     }
     s.lit->store(x, y, 0, glm::vec4(glm::vec3(lit), 1.0f));
     if (s.reference && !sky) s.reference->store(x, y, 0, convert::clampUnorm(glm::vec4(glm::vec3(lit), 1.0f)));
+}
+
+// The watched pixel's shading as a compute event: the target it writes before and after, and the
+// terms the light loop left (3dgep shading loops over the gathered lights: its indices are the
+// list's positions, mapped back to scene indices here).
+template <class Shade>
+void watchPixel(const TiledSetup& f, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y, Shade&& shade) {
+    PixelDrawEvent ev;
+    ev.compute = true;
+    ev.coverage = ev.passed = 1;
+    ev.shaded = true;
+    ev.posWindow = glm::vec4(float(x) + 0.5f, float(y) + 0.5f, f.depthView.load(x, y), 1.0f);
+    const Surface* target = f.options.shading == Shading::Intel ? f.lit : f.back;
+    ev.colorFormat = target->format();
+    const std::size_t bytes = formatInfo(target->format()).bytesPerTexel;
+    std::memcpy(ev.colorBefore.data(), target->texel(x, y), bytes);
+    setWatchedLightTerms(&ev.lights);
+    shade();
+    setWatchedLightTerms(nullptr);
+    std::memcpy(ev.colorAfter.data(), target->texel(x, y), bytes);
+    ev.output = target->load(x, y);
+    if (f.options.shading == Shading::Dgep)
+        for (LightTerm& term : ev.lights) term.light = term.light < list.size() ? list[term.light] : term.light;
+    f.watch->events.push_back(std::move(ev));
 }
 
 // ComputeShaderTileCS, one group per tile of kDim x kDim pixels (one thread each).
@@ -369,19 +430,24 @@ struct TileKernel {
             const std::uint32_t x = t.dispatchThreadId.x, y = t.dispatchThreadId.y;
             if (x >= f.width || y >= f.height) return;  // only onscreen pixels
             storeUnorm8(*f.heat, x, y, heat);
-            if (f.options.shading == Shading::Intel) {
-                if (precision == Precision::Reference) shadePixelIntel<double, false>(f, list, x, y);
-                else if (precision == Precision::Fast) shadePixelIntel<float, true>(f, list, x, y);
-                else shadePixelIntel<float, false>(f, list, x, y);
-            } else if (precision == Precision::Reference) shadePixelDgep<double, false>(f, gatheredReference, x, y);
-            else if (precision == Precision::Fast) shadePixelDgep<float, true>(f, gathered, x, y);
-            else shadePixelDgep<float, false>(f, gathered, x, y);
+            const auto shadePixel = [&] {
+                if (f.options.shading == Shading::Intel) {
+                    if (precision == Precision::Reference) shadePixelIntel<double, false>(f, list, x, y);
+                    else if (precision == Precision::Fast) shadePixelIntel<float, true>(f, list, x, y);
+                    else shadePixelIntel<float, false>(f, list, x, y);
+                } else if (precision == Precision::Reference) shadePixelDgep<double, false>(f, gatheredReference, x, y);
+                else if (precision == Precision::Fast) shadePixelDgep<float, true>(f, gathered, x, y);
+                else shadePixelDgep<float, false>(f, gathered, x, y);
+            };
+            if (f.watch && x == f.watch->x && y == f.watch->y) [[unlikely]] watchPixel(f, list, x, y, shadePixel);
+            else shadePixel();
         });
     }
 };
 
 template <std::uint32_t kDim>
 void dispatchTiles(TiledSetup& s, Device& device) {
+    s.watch = device.pixelWatch();
     const TileKernel<kDim> kernel{&s};
     compute::DispatchDesc desc;
     desc.order = compute::GroupOrder::Parallel;  // groups write only their own tile's pixels and lists

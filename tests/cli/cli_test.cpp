@@ -451,11 +451,23 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
     CHECK(draws > 0);
     REQUIRE(lastColour != nullptr);
     CHECK((*lastColour)["color"]["after"] == j["final"]["backbuffer"]);
+    // The shading draw's inputs (SV_Position first, the varyings by name) and each listed light's term.
+    REQUIRE((*lastColour).contains("inputs"));
+    CHECK((*lastColour)["inputs"][0]["name"] == "SV_Position");
+    CHECK((*lastColour)["inputs"][0]["value"][0] == 80.5);
+    CHECK((*lastColour)["inputs"][0]["value"][1] == 50.5);
+    CHECK((*lastColour)["inputs"][2]["name"] == "posView");
+    REQUIRE((*lastColour).contains("lights"));
+    CHECK((*lastColour)["lights"].size() == j["tile"]["listCount"].get<std::size_t>());  // one term per listed light
+    for (const auto& l : (*lastColour)["lights"]) CHECK((l.contains("diffuse") || l.contains("none")));
+    CHECK(j["tile"].contains("culled"));
     const Run text = run("probe default 10 10 --technique deferred --width 64 --height 36");
     INFO(text.output);
     CHECK(text.exitCode == 0);
     CHECK(text.output.find("pixel (10, 10)") != std::string::npos);
     CHECK(text.output.find("gbuffer: depth") != std::string::npos);
+    CHECK(text.output.find("in  SV_Position [10.5,10.5,") != std::string::npos);
+    CHECK(text.output.find("      light 0: ") != std::string::npos);
     CHECK(run("probe default 64 0 --width 64 --height 36").output.find("outside the 64x36 frame") != std::string::npos);
     CHECK(run("probe default 5").exitCode == 2);
     CHECK(run("render default --json").exitCode == 2);

@@ -18,6 +18,12 @@ namespace tessera {
 // float (and the D24 code), stencil as its byte, UINT channels as integers, others as floats.
 nlohmann::json pixelValue(const Surface& surface, std::uint32_t x, std::uint32_t y);
 
+// Why a light added nothing at the pixel ("out of range (...)", "behind the surface (...)", ...),
+// empty when it added something.
+std::string lightTermWhy(const LightTerm& term);
+// A LightTerm as probe's JSON: light, factors, diffuse / specular (or "added"), "none": why.
+nlohmann::json lightTermJson(const LightTerm& term);
+
 class PixelHistory {
 public:
     PixelHistory(std::uint32_t x, std::uint32_t y) : mX(x), mY(y) {}
@@ -26,10 +32,14 @@ public:
     void record(std::string_view pass, const BufferRegistry& registry, long long light = -1, std::string_view step = {});
     // The rasterizer's events at the pixel (Device::setPixelWatch) since the last call, as "draw"
     // events of `pass` (and of `light`'s `step`): draw, primitive, coverage, depth outcome, shader
-    // output, the colour and depth-stencil texels before and after, decoded by their formats.
+    // output, the colour and depth-stencil texels before and after, decoded by their formats; the
+    // shader's inputs (SV_Position, the varyings by name) and what each light added there or why
+    // it added nothing (out of range, outside the cone, behind the surface, disabled). A compute
+    // pass's thread that shades the pixel (tiled-deferred) is an event with "compute" instead of a draw.
     void addDrawEvents(std::string_view pass, PixelWatch& watch, long long light = -1, std::string_view step = {});
-    // The tiled techniques' view of the pixel from the final buffers: tile, depth range, list.
-    void addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx);
+    // The tiled techniques' view of the pixel from the final buffers: tile, depth range, list, and
+    // (sceneLights > 0) how many of the scene's lights the list leaves out ("culled").
+    void addTileInfo(const BufferRegistry& registry, std::uint32_t tileSizePx, std::size_t sceneLights = 0);
     std::uint32_t x() const { return mX; }
     std::uint32_t y() const { return mY; }
     const nlohmann::json& events() const { return mEvents; }

@@ -90,6 +90,8 @@ public:
     // Records what every later draw does at one pixel into `watch` (raster/pixel_watch.h);
     // null stops. The watch must outlive the draws; its pixel always takes the per-quad path.
     void setPixelWatch(PixelWatch* watch) { mWatch = watch; }
+    // The watch set above (null: none); compute passes that shade pixels record into it too.
+    PixelWatch* pixelWatch() const { return mWatch; }
 
 private:
     DeviceConfig mConfig;

@@ -1,19 +1,48 @@
 // Draw-level history of one watched pixel: for every primitive that covers it, what the
-// rasterizer did there (coverage, the incoming depth, the depth/stencil outcome, the shader's
-// output, and the render target's and depth-stencil texels before and after). Device::setPixelWatch
-// turns it on; `tessera probe` prints it. The watched pixel always takes the per-quad path.
+// rasterizer did there (coverage, the shader's inputs and output, the depth/stencil outcome, and
+// the render target's and depth-stencil texels before and after), plus what each light added
+// there. Device::setPixelWatch turns it on; `tessera probe` prints it. The watched pixel always
+// takes the per-quad path.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <span>
 #include <vector>
 
 #include <glm/vec4.hpp>
 
 #include <tessera/buffers/format.h>
+#include <tessera/shaders/shader_stages.h>
 
 namespace tessera {
+
+// One light as the watched pixel's shader evaluated it. The light loops leave these while
+// watchedLightTerms() is set, which the rasterizer (and the tiled compute passes) do only around
+// the watched pixel's shader: elsewhere the loops pay one thread-local load per pixel.
+struct LightTerm {
+    // Why the loop added nothing without evaluating the light (None: it was evaluated).
+    enum class Skip : std::uint8_t { None, Disabled, OutOfRange, OutsideCone };
+    std::uint32_t light = 0;  // scene light index
+    Skip skip = Skip::None;
+    float distance = 0.0f;    // surface to light, in the shading space's units (0: directional)
+    float range = std::numeric_limits<float>::infinity();  // where the light's falloff ends
+    float nDotL = 0.0f;       // dot(N, L) before clamping: <= 0 means the surface faces away
+    float falloff = 1.0f;     // distance attenuation (1 where the model has none)
+    float cone = 1.0f;        // spot cone factor (1 for other lights)
+    glm::vec4 diffuse{0.0f}, specular{0.0f};  // what the light added (combined: all of it in diffuse)
+    bool combined = false;    // the model adds one colour per light (Intel's AccumulateBRDF)
+};
+
+namespace detail {
+inline thread_local std::vector<LightTerm>* tWatchedLightTerms = nullptr;
+} // namespace detail
+
+// Where the light loops record LightTerms now: non-null only while the watched pixel shades.
+inline std::vector<LightTerm>* watchedLightTerms() { return detail::tWatchedLightTerms; }
+inline void setWatchedLightTerms(std::vector<LightTerm>* terms) { detail::tWatchedLightTerms = terms; }
 
 struct PixelDrawEvent {
     std::uint64_t draw = 0;       // the device's draw number (every draw() call counts, from 0)
@@ -22,8 +51,17 @@ struct PixelDrawEvent {
     std::uint32_t passed = 0;     // samples that passed depth/stencil and were written (not discarded)
     bool frontFacing = true;
     bool shaded = false, discarded = false;
+    bool compute = false;         // a compute pass's thread for the pixel, not a draw (draw, primitive: 0)
     float z = 0.0f;               // incoming depth of the first covered sample, clamped to the viewport range
+    // The shader's inputs when shaded: SV_Position, SV_SampleIndex and the interpolated varyings
+    // as floats in declaration order, named by inputFields when the varyings type has kFields.
+    glm::vec4 posWindow{0.0f};
+    std::uint32_t sampleIndex = 0;
+    std::uint32_t inputCount = 0;
+    std::array<float, kMaxVaryingFloats> inputs{};
+    std::span<const VaryingField> inputFields;
     glm::vec4 output{0.0f};       // SV_Target0 when shaded
+    std::vector<LightTerm> lights;  // what each light added, in loop order (empty: the shader reported none)
     Format colorFormat = Format::Unknown, depthFormat = Format::Unknown;  // Unknown: no such target
     std::array<std::byte, 16> colorBefore{}, colorAfter{};  // render target 0, sample 0
     std::array<std::byte, 8> depthBefore{}, depthAfter{};   // the depth-stencil texel, sample 0

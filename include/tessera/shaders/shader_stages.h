@@ -7,6 +7,7 @@
 #include <bit>
 #include <concepts>
 #include <cstdint>
+#include <span>
 #include <type_traits>
 
 #include <glm/glm.hpp>
@@ -33,6 +34,29 @@ inline constexpr std::size_t kVaryingFloatCount = sizeof(V) / sizeof(float);
 
 template <Varyings V>
 using VaryingArray = std::array<float, kVaryingFloatCount<V>>;
+
+// A varyings member's name and width in floats. A varyings type may list its members as
+// `static constexpr std::array<VaryingField, N> kFields` (in declaration order), so that tools
+// (`tessera probe`) can name the shader's inputs; the rasterizer itself never reads names.
+struct VaryingField {
+    const char* name;
+    std::uint32_t floats;
+};
+
+// V::kFields when it declares them, otherwise empty.
+template <Varyings V>
+constexpr std::span<const VaryingField> varyingFields() {
+    if constexpr (requires { V::kFields; }) {
+        static_assert([] {
+            std::size_t floats = 0;
+            for (const VaryingField& f : V::kFields) floats += f.floats;
+            return floats == kVaryingFloatCount<V>;
+        }(), "kFields must cover every float of the varyings, in order");
+        return std::span<const VaryingField>(V::kFields);
+    } else {
+        return {};
+    }
+}
 
 template <Varyings V>
 struct VertexOutput {

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <tessera/buffers/conversion.h>
+#include <tessera/raster/pixel_watch.h>
 #include <tessera/shading/phong_lighting.h>
 
 namespace tessera {
@@ -158,6 +159,54 @@ AmdLightingResult<T> amdSpotLight(const AmdSpotLight<T>& light, const Vec3<T>& p
             light.color * amdPow8(hlsl::saturate(hlsl::dot(halfAngle, normalWorld))) * falloff * radial;
     }
     return result;
+}
+
+// What a point / spot light added at a surface, for a pixel watch (raster/pixel_watch.h): the
+// factors recomputed with the operations above (so the same values) and the result it added.
+template <class T>
+LightTerm amdDescribePoint(std::uint32_t index, const AmdPointLight<T>& light, const Vec3<T>& posWorld,
+                           const Vec3<T>& normalWorld, const AmdLightingResult<T>& added) {
+    const Vec3<T> toLight = light.centerWorld - posWorld;
+    const T distance = std::sqrt(hlsl::dot(toLight, toLight));
+    LightTerm term;
+    term.light = index;
+    term.distance = float(distance);
+    term.range = float(light.radius);
+    term.nDotL = float(hlsl::dot(hlsl::normalize(toLight), normalWorld));
+    if (distance < light.radius) term.falloff = float(amdFalloff(distance / light.radius));
+    else term.skip = LightTerm::Skip::OutOfRange;
+    term.diffuse = glm::vec4(glm::vec3(added.diffuse), 0.0f);
+    term.specular = glm::vec4(glm::vec3(added.specular), 0.0f);
+    return term;
+}
+template <class T>
+LightTerm amdDescribeSpot(std::uint32_t index, const AmdSpotLight<T>& light, const Vec3<T>& posWorld,
+                          const Vec3<T>& normalWorld, const AmdLightingResult<T>& added) {
+    const Vec3<T> spotDir = amdSpotDirection(light.spotParams);
+    const Vec3<T> toLight = amdSpotPosition(light, spotDir) - posWorld;
+    const Vec3<T> toLightNormalized = hlsl::normalize(toLight);
+    const T distance = std::sqrt(hlsl::dot(toLight, toLight));
+    const T cosCurrent = hlsl::dot(Vec3<T>(-toLightNormalized.x, -toLightNormalized.y, -toLightNormalized.z), spotDir);
+    const T radius = light.spotParams.w;
+    const T cosCone = light.spotParams.z > T(0) ? light.spotParams.z : -light.spotParams.z;
+    LightTerm term;
+    term.light = index;
+    term.distance = float(distance);
+    term.range = float(radius);
+    term.nDotL = float(hlsl::dot(toLightNormalized, normalWorld));
+    if (!(distance < radius)) {
+        term.skip = LightTerm::Skip::OutOfRange;
+    } else if (!(cosCurrent > cosCone)) {
+        term.skip = LightTerm::Skip::OutsideCone;
+        term.cone = 0.0f;
+    } else {
+        const T radial = (cosCurrent - cosCone) / (T(1) - cosCone);
+        term.cone = float(radial * radial);
+        term.falloff = float(amdFalloff(distance / radius));
+    }
+    term.diffuse = glm::vec4(glm::vec3(added.diffuse), 0.0f);
+    term.specular = glm::vec4(glm::vec3(added.specular), 0.0f);
+    return term;
 }
 
 // The two loops of RenderScenePS over a tile's lists (point list, then spot list, each in list

@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include <tessera/math/det_math.h>
+#include <tessera/raster/pixel_watch.h>
 #include <tessera/scene/light.h>
 
 namespace tessera {
@@ -232,14 +234,52 @@ LightingResult<T> doDirectionalLight(const ViewLight<T>& light, T specularPower,
     return result;
 }
 
+// What `light` (scene index `index`) added at a surface, for a pixel watch (raster/pixel_watch.h):
+// the factors recomputed with the functions the shading used (so the same values), and the sums
+// it added. `skip` says why the loop did not evaluate it.
+template <class T, bool kFast = false>
+LightTerm describeLight(std::uint32_t index, const ViewLight<T>& light, const Vec4<T>& posView, const Vec4<T>& normalView,
+                        const LightingResult<T>& added, LightTerm::Skip skip = LightTerm::Skip::None) {
+    LightTerm term;
+    term.light = index;
+    term.skip = skip;
+    Vec4<T> lightDir;
+    if (light.type == LightType::Directional) {
+        lightDir = lightingNormalize<T, kFast>(hlsl::neg(light.directionView));
+        term.distance = 0.0f;
+    } else {
+        lightDir = light.positionView - posView;
+        const T distance = hlsl::length(lightDir);
+        lightDir = lightDir / distance;
+        term.distance = float(distance);
+        term.range = float(light.range);
+        term.falloff = float(doAttenuation(light, distance));
+        if (light.type == LightType::Spot) term.cone = float(doSpotCone<T, kFast>(light, lightDir));
+    }
+    term.nDotL = float(hlsl::dot(normalView, lightDir));
+    term.diffuse = glm::vec4(added.diffuse);
+    term.specular = glm::vec4(added.specular);
+    return term;
+}
+
 // One light of DoLighting's loop: skips a disabled light and a non-directional light with
 // length(PositionVS - P) > Range (strict: a pixel exactly at Range is shaded, and gets
-// attenuation 0), otherwise adds its Diffuse and Specular to `total`.
+// attenuation 0), otherwise adds its Diffuse and Specular to `total`. `trace` (a pixel watch's
+// terms; null almost always) receives what light `index` added or why it was skipped.
 template <class T, bool kFast = false>
 void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T specularPower, const Vec4<T>& viewDirView,
-                     const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular) {
-    if (!light.enabled) return;
-    if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) return;
+                     const Vec4<T>& posView, const Vec4<T>& normalView, bool withSpecular, std::uint32_t index = 0,
+                     std::vector<LightTerm>* trace = nullptr) {
+    if (!light.enabled) {
+        if (trace) [[unlikely]]
+            trace->push_back(describeLight<T, kFast>(index, light, posView, normalView, {}, LightTerm::Skip::Disabled));
+        return;
+    }
+    if (light.type != LightType::Directional && hlsl::length(light.positionView - posView) > light.range) {
+        if (trace) [[unlikely]]
+            trace->push_back(describeLight<T, kFast>(index, light, posView, normalView, {}, LightTerm::Skip::OutOfRange));
+        return;
+    }
     LightingResult<T> result;
     switch (light.type) {
     case LightType::Directional: result = doDirectionalLight<T, kFast>(light, specularPower, viewDirView, normalView, withSpecular); break;
@@ -248,6 +288,7 @@ void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T spec
     }
     total.diffuse += result.diffuse;
     total.specular += result.specular;
+    if (trace) [[unlikely]] trace->push_back(describeLight<T, kFast>(index, light, posView, normalView, result));
 }
 
 // DoLighting: V = normalize(eye - P) with eye = (0,0,0,1); lights in span order through
@@ -260,7 +301,9 @@ LightingResult<T> doLighting(std::span<const ViewLight<T>> lights, T specularPow
     const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
     const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
     LightingResult<T> total;
-    for (const ViewLight<T>& light : lights) accumulateLight<T, kFast>(total, light, specularPower, viewDirView, posView, normalView, withSpecular);
+    std::vector<LightTerm>* const trace = watchedLightTerms();
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        accumulateLight<T, kFast>(total, lights[i], specularPower, viewDirView, posView, normalView, withSpecular, std::uint32_t(i), trace);
     return total;
 }
 
@@ -278,10 +321,11 @@ LightingResult<T> doLightingListed(std::span<const ViewLight<T>> lights, std::ui
     const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
     const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
     LightingResult<T> total;
+    std::vector<LightTerm>* const trace = watchedLightTerms();
     for (std::uint32_t i = 0; i < lightCount; ++i) {
         const std::uint32_t index = lightIndexAt(i);
         if (index >= lights.size()) continue;
-        accumulateLight<T, kFast>(total, lights[index], specularPower, viewDirView, posView, normalView, withSpecular);
+        accumulateLight<T, kFast>(total, lights[index], specularPower, viewDirView, posView, normalView, withSpecular, index, trace);
     }
     return total;
 }

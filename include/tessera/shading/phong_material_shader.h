@@ -33,6 +33,8 @@ struct PhongVaryings {
     glm::vec3 tangentView;    // mul((float3x3)ModelView, tangent)
     glm::vec3 binormalView;   // mul((float3x3)ModelView, binormal)
     glm::vec3 normalView;     // mul((float3x3)ModelView, normal): upper 3x3, NOT the inverse transpose
+    static constexpr std::array<VaryingField, 6> kFields{
+        {{"posView", 3}, {"uv0", 2}, {"uv1", 2}, {"tangentView", 3}, {"binormalView", 3}, {"normalView", 3}}};
 };
 
 // VS_main (3dgep article §2.1). The article's vertex has a BINORMAL attribute; glTF gives tangent.w, so

@@ -477,10 +477,21 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                         if constexpr (kHasPs) {
                             PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
                                              pixelMask, sampleIndex};
+                            if (watched) [[unlikely]] {  // the inputs, and a place for the light loops' terms
+                                PixelDrawEvent& ev = watched->event;
+                                ev.posWindow = in.posWindow;
+                                ev.sampleIndex = sampleIndex;
+                                ev.inputCount = std::uint32_t(kVaryingFloatCount<V>);
+                                const VaryingArray<V> floats = std::bit_cast<VaryingArray<V>>(var);
+                                std::copy(floats.begin(), floats.end(), ev.inputs.begin());
+                                ev.inputFields = varyingFields<V>();
+                                setWatchedLightTerms(&ev.lights);
+                            }
                             ps(in, out);
                             ++counters.psInvocations;
                             shaded = true;
                             if (watched) [[unlikely]] {
+                                setWatchedLightTerms(nullptr);
                                 watched->event.shaded = true;
                                 watched->event.discarded = out.discarded;
                                 if constexpr (kTargets > 0) watched->event.output = out.target[0];
