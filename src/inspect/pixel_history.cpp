@@ -70,6 +70,31 @@ nlohmann::json texelValue(Format format, const std::byte* bytes) {
     std::memcpy(one.texel(0, 0), bytes, formatInfo(format).bytesPerTexel);
     return pixelValue(one, 0, 0);
 }
+const char* outcomeName(PixelDrawEvent::Outcome o) {
+    switch (o) {
+    case PixelDrawEvent::Outcome::StencilFail: return "stencil fail";
+    case PixelDrawEvent::Outcome::DepthFail: return "depth fail";
+    case PixelDrawEvent::Outcome::Pass: return "pass";
+    case PixelDrawEvent::Outcome::NotTested: break;
+    }
+    return "not tested";
+}
+
+// D3D11_STENCIL_OP names.
+const char* stencilOpName(StencilOp op) {
+    switch (op) {
+    case StencilOp::Keep: return "KEEP";
+    case StencilOp::Zero: return "ZERO";
+    case StencilOp::Replace: return "REPLACE";
+    case StencilOp::IncrSat: return "INCR_SAT";
+    case StencilOp::DecrSat: return "DECR_SAT";
+    case StencilOp::Invert: return "INVERT";
+    case StencilOp::Incr: return "INCR";
+    case StencilOp::Decr: return "DECR";
+    }
+    return "?";
+}
+
 nlohmann::json vec(const glm::vec4& v, int n) {
     nlohmann::json a = nlohmann::json::array();
     for (int c = 0; c < n; ++c) a.push_back(v[c]);
@@ -144,6 +169,8 @@ void PixelHistory::addDrawEvents(std::string_view pass, PixelWatch& watch, long 
             e["coverage"] = d.coverage;
             e["z"] = d.z;
             e["passed"] = d.passed;
+            if (d.outcome != PixelDrawEvent::Outcome::NotTested) e["test"] = outcomeName(d.outcome);
+            if (d.stencilTested) e["stencil"] = {{"op", stencilOpName(d.stencilOp)}, {"ref", d.stencilRef}};
         }
         if (d.shaded) {
             e["inputs"] = shaderInputs(d);
@@ -218,8 +245,12 @@ std::string PixelHistory::text() const {
             out += "  " + where + ": draw " + std::to_string(e["draw"].get<std::uint64_t>()) + " primitive " +
                    std::to_string(e["primitive"].get<std::uint32_t>()) + " (" + e["face"].get<std::string>() + "), coverage " +
                    std::to_string(e["coverage"].get<std::uint32_t>()) + ", z " + e["z"].dump() + ", " +
-                   (e["passed"].get<std::uint32_t>() ? "passed" : "failed") + (e["shaded"].get<bool>() ? ", shaded" : "") +
-                   (e["discarded"].get<bool>() ? ", discarded" : "") + "\n";
+                   (e["passed"].get<std::uint32_t>() ? "passed" : "failed") +
+                   (e.contains("test") ? " (" + e["test"].get<std::string>() + ")" : std::string()) +
+                   (e.contains("stencil") ? ", stencil op " + e["stencil"]["op"].get<std::string>() + " ref " +
+                                                std::to_string(e["stencil"]["ref"].get<int>())
+                                          : std::string()) +
+                   (e["shaded"].get<bool>() ? ", shaded" : "") + (e["discarded"].get<bool>() ? ", discarded" : "") + "\n";
         }
         if (e.contains("draw") || e.contains("compute")) {
             if (e.contains("inputs"))

@@ -36,7 +36,7 @@ struct Result {
     PixelWatch watch;
 };
 
-void render(bool simd, Result& r) {
+void render(bool simd, Result& r, bool stencilDraw = false) {
     r.watch.x = 13;
     r.watch.y = 21;  // below the diagonal: primitive 1 of each quad
     r.color.clearColor(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
@@ -58,6 +58,15 @@ void render(bool simd, Result& r) {
     st.depthStencil.depthWriteEnable = false;
     const auto blended = quadAt(0.25f, {0.0f, 0.0f, 1.0f, 0.5f});
     device.draw(st, rt, std::span<const ColorVertex>(blended), {}, PassThroughVS{}, ColorPS{});  // draw 2: blends
+    if (!stencilDraw) return;
+    // draw 3: z 0.9 fails LESS against 0.5 with the stencil test passing: DEPTH_FAIL's REPLACE writes ref 7.
+    st.blend.renderTarget[0] = {};
+    st.depthStencil.stencilEnable = true;
+    st.depthStencil.frontFace = {StencilOp::Keep, StencilOp::Replace, StencilOp::IncrSat, ComparisonFunc::Always};
+    st.depthStencil.backFace = st.depthStencil.frontFace;
+    st.stencilRef = 7;
+    const auto behind = quadAt(0.9f, {1.0f, 1.0f, 1.0f, 1.0f});
+    device.draw(st, rt, std::span<const ColorVertex>(behind), {}, PassThroughVS{}, ColorPS{});
 }
 
 std::uint32_t d24(const std::array<std::byte, 8>& texel) {
@@ -82,6 +91,20 @@ TEST_CASE("pixel watch: draws, primitives, depth outcome, shader output and texe
         CHECK(e[i].colorFormat == Format::R8G8B8A8_UNORM);
         CHECK(e[i].depthFormat == Format::D24_UNORM_S8_UINT);
     }
+    // The shader's inputs: SV_Position at the pixel centre, the interpolated colour varyings.
+    CHECK(e[0].posWindow.x == 13.5f);
+    CHECK(e[0].posWindow.y == 21.5f);
+    CHECK(e[0].posWindow.z == 0.5f);
+    REQUIRE(e[0].inputCount == 4);
+    CHECK(e[0].inputs[0] == 1.0f);
+    CHECK(e[0].inputs[1] == 0.0f);
+    CHECK(e[0].inputs[3] == 1.0f);
+    CHECK(e[2].inputs[2] == 1.0f);  // draw 2's blue
+    // The test outcomes; no stencil test ran.
+    CHECK(e[0].outcome == PixelDrawEvent::Outcome::Pass);
+    CHECK(e[1].outcome == PixelDrawEvent::Outcome::DepthFail);
+    CHECK(e[2].outcome == PixelDrawEvent::Outcome::Pass);
+    CHECK(!e[0].stencilTested);
     // Draw 0: the cleared depth (code 2^24 - 1) becomes 0.5 (code 8388608 = round(0.5 * (2^24 - 1))); red written.
     CHECK(e[0].passed == 1u);
     CHECK(d24(e[0].depthBefore) == 0xFFFFFFu);
@@ -111,4 +134,18 @@ TEST_CASE("pixel watch: draws, primitives, depth outcome, shader output and texe
         CHECK(scalar.watch.events[i].depthAfter == e[i].depthAfter);
     }
     CHECK(std::memcmp(scalar.color.bytes().data(), r.color.bytes().data(), r.color.bytes().size()) == 0);
+}
+
+TEST_CASE("pixel watch: the stencil outcome names the op the state chose and its reference, and the stencil byte follows it") {
+    Result r;
+    render(true, r, true);
+    const auto& e = r.watch.events;
+    REQUIRE(e.size() == 4);
+    CHECK(e[3].outcome == PixelDrawEvent::Outcome::DepthFail);  // 0.9 against the stored 0.5 with LESS
+    CHECK(e[3].stencilTested);
+    CHECK(e[3].stencilOp == StencilOp::Replace);  // the front face's depthFailOp
+    CHECK(e[3].stencilRef == 7);
+    CHECK(std::to_integer<int>(e[3].depthBefore[3]) == 0);  // D24S8: the stencil byte is the texel's fourth
+    CHECK(std::to_integer<int>(e[3].depthAfter[3]) == 7);
+    CHECK(e[3].colorAfter == e[3].colorBefore);
 }

@@ -16,6 +16,7 @@
 
 #include <tessera/buffers/format.h>
 #include <tessera/shaders/shader_stages.h>
+#include <tessera/state/depth_stencil_state.h>
 
 namespace tessera {
 
@@ -53,6 +54,13 @@ struct PixelDrawEvent {
     bool shaded = false, discarded = false;
     bool compute = false;         // a compute pass's thread for the pixel, not a draw (draw, primitive: 0)
     float z = 0.0f;               // incoming depth of the first covered sample, clamped to the viewport range
+    // The depth/stencil test at the first covered sample (NotTested: discarded before it, or a
+    // compute event) and, when the stencil test ran, the op it chose and the reference value.
+    enum class Outcome : std::uint8_t { NotTested, StencilFail, DepthFail, Pass };
+    Outcome outcome = Outcome::NotTested;
+    bool stencilTested = false;
+    StencilOp stencilOp = StencilOp::Keep;
+    std::uint8_t stencilRef = 0;
     // The shader's inputs when shaded: SV_Position, SV_SampleIndex and the interpolated varyings
     // as floats in declaration order, named by inputFields when the varyings type has kFields.
     glm::vec4 posWindow{0.0f};

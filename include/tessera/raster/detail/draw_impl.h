@@ -516,6 +516,21 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             ++passCount;
                         }
                     }
+                    if (watched) [[unlikely]] {
+                        const DepthStencilResult first = result[std::countr_zero(mask)];
+                        PixelDrawEvent& ev = watched->event;
+                        ev.outcome = first == DepthStencilResult::Pass        ? PixelDrawEvent::Outcome::Pass
+                                     : first == DepthStencilResult::DepthFail ? PixelDrawEvent::Outcome::DepthFail
+                                                                              : PixelDrawEvent::Outcome::StencilFail;
+                        if (dc.ds.stencilActive()) {
+                            const StencilFaceDesc& face = front ? dc.ds.desc.frontFace : dc.ds.desc.backFace;
+                            ev.stencilTested = true;
+                            ev.stencilRef = dc.ds.ref;
+                            ev.stencilOp = first == DepthStencilResult::Pass        ? face.passOp
+                                           : first == DepthStencilResult::DepthFail ? face.depthFailOp
+                                                                                    : face.failOp;
+                        }
+                    }
                     if constexpr (kHasPs && !kWritesDepth) {
                         // Early depth/stencil: the shader is skipped only where its result
                         // cannot matter (no sample passes and a discard could not change
