@@ -50,61 +50,6 @@ struct DeferredOptions {
 // src/shading/phong_material_shader.cpp, the same operations in the same order, so that a float
 // G-buffer holds exactly the values forward shades with), the demo's discard, no lighting.
 
-
-// What PS_Geometry computes for one pixel before packing it into the targets.
-struct GBufferSample {
-    glm::vec4 ambientEmissive{0.0f};  // OUT.LightAccumulation = ambient + emissive
-    glm::vec4 diffuse{0.0f};          // OUT.Diffuse
-    glm::vec4 specular{0.0f};         // 0 unless specularPower > 1 (then SpecularColor, texture rule)
-    glm::vec4 normalView{0.0f};       // OUT.NormalVS (w = 0)
-    float alpha = 1.0f;               // diffuse.a or the opacity texture's .r
-    float specularPower = -1.0f;
-};
-
-template <std::uint32_t F>
-bool gatherGBuffer(const PhongShaderData<float>& d, const PixelInput<PhongVaryings>& in, GBufferSample& s) {
-    PhongSurface<float> surface;
-    const bool kept = gatherPhongSurface<float, F>(d, in, surface);
-    s.diffuse = surface.diffuse;
-    s.alpha = surface.alpha;
-    if (!kept) return false;
-    s.ambientEmissive = surface.ambient + surface.emissive;
-    s.specular = surface.specular;
-    s.normalView = surface.normalView;
-    s.specularPower = surface.specularPower;
-    return true;
-}
-
-using GatherFn = bool (*)(const PhongShaderData<float>&, const PixelInput<PhongVaryings>&, GBufferSample&);
-
-template <std::size_t... I>
-constexpr std::array<GatherFn, sizeof...(I)> makeGatherTable(std::index_sequence<I...>) {
-    return {&gatherGBuffer<phongVariantMask(I)>...};
-}
-constexpr auto kGatherTable = makeGatherTable(std::make_index_sequence<kPhongVariantCount>{});
-
-struct GatherVariant {
-    GatherFn fn = nullptr;
-    bool mayDiscard = false;
-    std::string name;
-};
-
-GatherVariant selectGather(std::uint32_t features) {
-    GatherVariant v;
-    v.mayDiscard = (features & kPhongAlphaTest) != 0;
-    if ((features & ~kPhongSpecializedAxes) == 0) {
-        v.fn = kGatherTable[phongVariantIndex(features)];
-        v.name = "gbuffer:";
-        v.name += phongFeatureNames(features);
-    } else {
-        v.fn = v.mayDiscard ? &gatherGBuffer<kPhongAllFeatures> : &gatherGBuffer<kPhongAllFeatures & ~kPhongAlphaTest>;
-        v.name = "gbuffer:generic(";
-        v.name += phongFeatureNames(features);
-        v.name += ')';
-    }
-    return v;
-}
-
 // PS_Geometry's outputs: SV_Target0 light accumulation, 1 diffuse, 2 specular, 3 view normal,
 // (4 view position with position gbuffer).
 template <bool kDiscard, int kTargets>
@@ -112,19 +57,19 @@ struct GBufferPS {
     using Varyings = PhongVaryings;
     static constexpr int kTargetCount = kTargets;
     static constexpr bool kMayDiscard = kDiscard;
-    GatherFn gather = nullptr;
+    PhongGatherFn gather = nullptr;
     const PhongShaderData<float>* data = nullptr;
     bool floatTargets = false;     // spec power unpacked in RT2.a
     bool forwardAlpha = false;     // accumulate lighting: RT0.a = alpha * Opacity (forward's output alpha)
     void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargets>& out) const {
-        GBufferSample s;
+        PhongSurface<float> s;
         if (!gather(*data, in, s)) {
             out.discard();
             return;
         }
-        out.target[0] = forwardAlpha ? glm::vec4(s.ambientEmissive.x, s.ambientEmissive.y, s.ambientEmissive.z,
-                                                 s.alpha * data->opacity)
-                                     : s.ambientEmissive;
+        const glm::vec4 ambientEmissive = s.ambient + s.emissive;
+        out.target[0] = forwardAlpha ? glm::vec4(ambientEmissive.x, ambientEmissive.y, ambientEmissive.z, s.alpha * data->opacity)
+                                     : ambientEmissive;
         out.target[1] = s.diffuse;
         // OUT.Specular = float4(specular.rgb, log2(specularPower) / 10.5f)
         out.target[2] = glm::vec4(s.specular.x, s.specular.y, s.specular.z,
@@ -631,7 +576,7 @@ void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const Scen
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         const PhongShaderData<float> data =
             makePhongShaderData<float>(material, *fwd.textures, std::span<const ViewLight<float>>());
-        const GatherVariant variant = selectGather(phongFeatures(material, true));
+        const PhongGatherVariant variant = selectPhongGather(phongFeatures(material, true), "gbuffer");
         if (variantCounts) ++(*variantCounts)[variant.name];
         const std::span<const SceneVertex> vertices(prim.vertices);
         const auto run = [&](auto ps) {

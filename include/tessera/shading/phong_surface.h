@@ -7,6 +7,9 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
 
 #include <tessera/shading/phong_material_shader.h>
 
@@ -148,6 +151,43 @@ bool gatherPhongSurface(const PhongShaderData<T>& d, const PixelInput<PhongVaryi
     s.specular = specular;
     s.normalView = normalView;
     return true;
+}
+
+// The float gather for a material's feature mask (phongFeatures): a compile-time specialisation
+// when the mask uses only kPhongSpecializedAxes, otherwise the generic all-features shader (with
+// or without the alpha test). `name` is "<prefix>:<features>" or "<prefix>:generic(<features>)",
+// the shader-variant counter's key (--stats).
+using PhongGatherFn = bool (*)(const PhongShaderData<float>&, const PixelInput<PhongVaryings>&, PhongSurface<float>&);
+struct PhongGatherVariant {
+    PhongGatherFn fn = nullptr;
+    bool mayDiscard = false;
+    std::string name;
+};
+
+namespace phong_detail {
+template <std::size_t... I>
+constexpr std::array<PhongGatherFn, sizeof...(I)> makeGatherTable(std::index_sequence<I...>) {
+    return {&gatherPhongSurface<float, phongVariantMask(I)>...};
+}
+inline constexpr auto kGatherTable = makeGatherTable(std::make_index_sequence<kPhongVariantCount>{});
+} // namespace phong_detail
+
+inline PhongGatherVariant selectPhongGather(std::uint32_t features, std::string_view prefix) {
+    PhongGatherVariant v;
+    v.mayDiscard = (features & kPhongAlphaTest) != 0;
+    v.name = prefix;
+    if ((features & ~kPhongSpecializedAxes) == 0) {
+        v.fn = phong_detail::kGatherTable[phongVariantIndex(features)];
+        v.name += ':';
+        v.name += phongFeatureNames(features);
+    } else {
+        v.fn = v.mayDiscard ? &gatherPhongSurface<float, kPhongAllFeatures>
+                            : &gatherPhongSurface<float, kPhongAllFeatures & ~kPhongAlphaTest>;
+        v.name += ":generic(";
+        v.name += phongFeatureNames(features);
+        v.name += ')';
+    }
+    return v;
 }
 
 } // namespace tessera
