@@ -667,6 +667,14 @@ int render(const std::vector<std::string_view>& args) {
                                  "light from the camera, README \"Scenes\"); --no-default-lights turns it off\n",
                          sceneFile.string().c_str());
     }
+    // Capsule lights are the Cookbook's: every other technique skips them (viewLights disables them).
+    if (desc.technique != "deferred-cookbook") {
+        const auto capsules = std::count_if(scene.lights.begin(), scene.lights.end(),
+                                            [](const tessera::Light& l) { return l.type == tessera::LightType::Capsule; });
+        if (capsules > 0)
+            warn(sceneFile.string() + " has " + std::to_string(capsules) + " capsule light(s); " + desc.technique +
+                 " does not shade capsule lights (deferred-cookbook does), so they are skipped");
+    }
     const double loadMs = msSince(t0);
     const auto t1 = Clock::now();
     const tessera::SceneResources resources(

@@ -142,6 +142,7 @@ std::string lightTermWhy(const LightTerm& t) {
 
 nlohmann::json lightTermJson(const LightTerm& t) {
     nlohmann::json j{{"light", t.light}, {"nDotL", t.nDotL}, {"falloff", t.falloff}, {"cone", t.cone}};
+    if (t.light == kAmbientLightTerm) j["light"] = "ambient";
     if (t.distance != 0.0f || t.range != std::numeric_limits<float>::infinity()) {
         j["distance"] = t.distance;
         if (t.range != std::numeric_limits<float>::infinity()) j["range"] = t.range;
@@ -258,7 +259,7 @@ std::string PixelHistory::text() const {
                     out += "      in  " + input["name"].get<std::string>() + " " + input["value"].dump() + "\n";
             if (e.contains("lights"))
                 for (const auto& l : e["lights"]) {
-                    out += "      light " + std::to_string(l["light"].get<std::uint32_t>()) + ": ";
+                    out += "      light " + (l["light"].is_string() ? l["light"].get<std::string>() : l["light"].dump()) + ": ";
                     if (l.contains("none")) {
                         out += "none, " + l["none"].get<std::string>() + "\n";
                         continue;

@@ -39,12 +39,4 @@ CookbookPerspectiveValues cookbookPerspectiveValues(const glm::mat4& projectionL
     return pv;
 }
 
-float cookbookLinearDepth(float depth, const CookbookPerspectiveValues& pv) { return pv.z / (depth + pv.w); }
-
-glm::vec3 cookbookWorldPosition(const glm::vec2& csPos, float linearDepth, const CookbookPerspectiveValues& pv,
-                                const glm::mat4& worldFromViewLh) {
-    const glm::vec4 posViewLh(csPos.x * pv.x * linearDepth, csPos.y * pv.y * linearDepth, linearDepth, 1.0f);
-    return glm::vec3(worldFromViewLh * posViewLh);
-}
-
 } // namespace tessera

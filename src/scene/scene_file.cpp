@@ -335,14 +335,16 @@ void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
 
 Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     r.requireObject(value, path);
-    r.checkKeys(value, path, {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "enabled"});
+    r.checkKeys(value, path,
+                {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "length", "enabled"});
     r.requireKey(value, path, "type");
     const std::string type = r.string(value["type"], Reader::at(path, "type"));
     Light light;
     if (type == "point") light.type = LightType::Point;
     else if (type == "spot") light.type = LightType::Spot;
     else if (type == "directional") light.type = LightType::Directional;
-    else r.fail(Reader::at(path, "type"), "unknown light type \"" + type + "\" (point, spot, directional)");
+    else if (type == "capsule") light.type = LightType::Capsule;
+    else r.fail(Reader::at(path, "type"), "unknown light type \"" + type + "\" (point, spot, directional, capsule)");
 
     const bool positional = light.type != LightType::Directional;
     const bool directed = light.type != LightType::Point;
@@ -368,6 +370,12 @@ Light parseLight(const Reader& r, const Json& value, const std::string& path) {
             light.spotHalfAngleDeg = r.numberIn(value["spotAngleDeg"], Reader::at(path, "spotAngleDeg"), 0.0f, 90.0f, true, true);
     } else {
         notFor("spotAngleDeg");
+    }
+    if (light.type == LightType::Capsule) {  // the segment from "position" along "direction"
+        r.requireKey(value, path, "length");
+        light.length = r.positive(value["length"], Reader::at(path, "length"));
+    } else {
+        notFor("length");
     }
     if (value.contains("color")) light.color = r.colour(value["color"], Reader::at(path, "color"));
     if (value.contains("intensity")) light.intensity = r.nonNegative(value["intensity"], Reader::at(path, "intensity"));

@@ -270,7 +270,7 @@ std::vector<ViewLight<T>> viewLights(std::span<const Light> lights, const glm::m
         v.spotlightAngleDeg = T(l.spotHalfAngleDeg);
         v.range = T(l.range);
         v.intensity = T(l.intensity);
-        v.enabled = l.enabled;
+        v.enabled = l.enabled && l.type != LightType::Capsule;  // the 3dgep model has no capsule lights
         v.type = l.type;
         cacheSpotCone(v);  // per-frame constants of DoSpotCone (same bits as per pixel)
         out.push_back(v);

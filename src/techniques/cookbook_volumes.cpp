@@ -154,7 +154,7 @@ float cookbookCapsulePaddedRange(float halfSegmentLen, float range) {
     };
     float lo = range, hi = range * 2.0f;
     while (!contains(hi)) hi *= 2.0f;
-    while (hi - lo > hi * 1e-6f) {
+    for (int i = 0; i < 40 && hi - lo > hi * 1e-6f; ++i) {  // bounded: adjacent floats stop halving
         const float mid = 0.5f * (lo + hi);
         (contains(mid) ? hi : lo) = mid;
     }
@@ -170,7 +170,7 @@ CookbookSpotPadding cookbookSpotPadding(float halfAngle) {
         return true;
     };
     float lo = halfAngle, hi = std::min(halfAngle * 1.5f + 1e-3f, float(std::numbers::pi / 2.0) - 1e-3f);
-    while (hi - lo > 1e-7f) {
+    for (int i = 0; i < 40 && hi - lo > 1e-7f; ++i) {  // bounded: adjacent floats stop halving
         const float mid = 0.5f * (lo + hi);
         (apexFacesHold(mid) ? hi : lo) = mid;
     }

@@ -152,6 +152,7 @@ struct DeferredLightingPS {
             case LightType::Directional: lit = doDirectionalLight<T, kFast>(*light, specularPower, viewDirView, normalView); break;
             case LightType::Point: lit = doPointLight<T, kFast>(*light, specularPower, viewDirView, posView, normalView); break;
             case LightType::Spot: lit = doSpotLight<T, kFast>(*light, specularPower, viewDirView, posView, normalView); break;
+            case LightType::Capsule: break;  // runLights draws no capsule
             }
         };
         if constexpr (std::is_same_v<T, float>) {
@@ -194,14 +195,6 @@ struct ComposePS {
         out.target[0] = glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w);
     }
 };
-
-// Writes a float target into `to` as the output merger converts a PS value for an UNORM target
-// without blending: NaN -> 0, clamp to [0, 1] (D3D11.3 §3.2.3.6), then `to`'s own encode (the
-// 8-bit rounding for the back buffer; none for precision reference's float copy). `from` may be `to`.
-void storeAsUnorm(const Surface& from, Surface& to) {
-    for (std::uint32_t y = 0; y < to.height(); ++y)
-        for (std::uint32_t x = 0; x < to.width(); ++x) to.store(x, y, 0, convert::clampUnorm(from.load(x, y)));
-}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -347,6 +340,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     for (std::size_t i = 0; i < setup.lightsWorld.size(); ++i) {
         const Light& light = setup.lightsWorld[i];
         if (!light.enabled) continue;  // the demo draws no volume for a disabled light
+        if (light.type == LightType::Capsule) continue;  // not a 3dgep light (deferred-cookbook shades capsules)
         const ViewLight<T>* viewLight;
         if constexpr (std::is_same_v<T, float>) viewLight = &fwd.lightsExact[i];
         else viewLight = &fwd.lightsReference[i];

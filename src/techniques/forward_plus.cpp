@@ -331,6 +331,7 @@ struct CullLightsKernel {
                 break;
             }
             case LightType::Directional: opaqueToo = true; break;  // always added
+            case LightType::Capsule: return;  // disabled by viewLights: never reaches here
             }
             append(s.tLightCount, tLightList, i);
             if (opaqueToo) append(s.oLightCount, oLightList, i);
@@ -696,6 +697,7 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
                         break;
                     }
                     case LightType::Directional: opaqueToo = true; break;  // always added
+                    case LightType::Capsule: return;  // not a 3dgep light: never listed
                     }
                     tList[slice[tx] + tCount[tx]++] = i;
                     if (opaqueToo) oList[slice[tx] + oCount[tx]++] = i;

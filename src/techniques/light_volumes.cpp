@@ -200,6 +200,7 @@ const VolumeMesh& LightVolumes::meshFor(LightType type) const {
     case LightType::Point: return mSphere;
     case LightType::Spot: return mCone;
     case LightType::Directional: break;
+    case LightType::Capsule: throw std::invalid_argument("LightVolumes::meshFor: the 3dgep volumes have no capsule");
     }
     throw std::invalid_argument("LightVolumes::meshFor: directional lights have no volume (full-screen quad)");
 }

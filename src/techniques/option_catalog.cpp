@@ -31,6 +31,13 @@ constexpr std::array<std::string_view, 2> kShadingIntel{"intel", "3dgep"};
 constexpr std::array<std::string_view, 2> kNormals{"spheremap", "float"};
 constexpr std::array<std::string_view, 2> kTilePlanes{"sample2010", "tile"};
 constexpr std::array<std::string_view, 1> kUnbounded{"unbounded"};
+constexpr std::array<std::string_view, 2> kSpecPowerUnpack{"printed", "once"};
+constexpr std::array<std::string_view, 2> kVolumeCull{"table", "front"};
+constexpr std::array<std::string_view, 2> kSpotVolume{"book", "demo"};
+constexpr std::array<std::string_view, 2> kCpPos{"vertex", "pixel"};
+constexpr std::array<std::string_view, 2> kBackground{"book", "stencil"};
+constexpr std::array<std::string_view, 2> kVolumeScale{"padded", "range"};
+constexpr std::array<std::string_view, 2> kLightGeometry{"volumes", "quads"};
 constexpr std::array<std::string_view, 0> kNone{};
 
 constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
@@ -45,6 +52,24 @@ constexpr OptionInfo kTileSizeOption{"tileSize", Kind::Integer, kTileSize, -1, "
                                      "tile edge in px, one thread group per tile (BLOCK_SIZE)"};
 
 constexpr std::array<OptionInfo, 3> kForward{kProjectionOption, kSamplerOption, kAlphaTestOption};
+
+constexpr std::array<OptionInfo, 9> kDeferredCookbook{
+    OptionInfo{"specPowerUnpack", Kind::Word, kSpecPowerUnpack, -1, "printed", "once", 22,
+               "the chapter's printed unpack (251 x norm, then decoded again) or 0.1 + 250 x norm once"},
+    OptionInfo{"volumeCull", Kind::Word, kVolumeCull, -1, "table", "front", 23,
+               "the recipe table's CULL_BACK (lights what is in front of the volume) or CULL_FRONT (its far side)"},
+    OptionInfo{"spotVolume", Kind::Word, kSpotVolume, -1, "book", "demo", 24,
+               "ScaleXY = R tan(a)/sqrt(1/2) on a 45-degree unit cone, or the outer angle's cone scaled by R (enlarged)"},
+    OptionInfo{"cpPos", Kind::Word, kCpPos, -1, "vertex", "pixel", 25,
+               "clip-space xy divided per vertex and interpolated, or the pixel centre's"},
+    OptionInfo{"background", Kind::Word, kBackground, -1, "book", "stencil", 26,
+               "the directional quad without depth-stencil shades the background too, or stencil marks the geometry"},
+    OptionInfo{"volumeScale", Kind::Word, kVolumeScale, -1, "padded", "", 0,
+               "volumes enlarged to contain the light's range (the book's 'plus a small value'), or exactly the range"},
+    OptionInfo{"lightGeometry", Kind::Word, kLightGeometry, -1, "volumes", "", 0,
+               "the recipes' volumes, or every light as a full-screen quad (the baseline the volumes must match)"},
+    kSamplerOption,
+    kAlphaTestOption};
 
 constexpr std::array<OptionInfo, 9> kDeferred{
     kProjectionOption,
@@ -130,12 +155,13 @@ struct TechniqueOptions {
     std::span<const OptionInfo> options;
 };
 
-constexpr std::array<TechniqueOptions, 6> kCatalog{{{"forward", kForward},
+constexpr std::array<TechniqueOptions, 7> kCatalog{{{"forward", kForward},
                                                     {"deferred", kDeferred},
                                                     {"deferred-killzone", kKillzone},
                                                     {"forward-plus", kForwardPlus},
                                                     {"forward-plus-amd", kForwardPlusAmd},
-                                                    {"tiled-deferred", kTiledDeferred}}};
+                                                    {"tiled-deferred", kTiledDeferred},
+                                                    {"deferred-cookbook", kDeferredCookbook}}};
 
 bool listed(const OptionInfo& option, std::string_view text) {
     for (const std::string_view v : option.values)

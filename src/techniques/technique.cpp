@@ -5,8 +5,10 @@
 
 #include <array>
 
+#include <tessera/buffers/conversion.h>
 #include <tessera/io/input_error.h>
 #include <tessera/techniques/deferred.h>
+#include <tessera/techniques/deferred_cookbook.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
 #include <tessera/techniques/forward_plus_amd.h>
@@ -34,8 +36,9 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      TexturePolicy::AllLinear},
     {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel 2010 sample (Lauritzen)",
      &buildTiledDeferred, kTiledDeferredOptionKeys, TexturePolicy::AllLinear},
-    {"deferred-cookbook", "HLSL Development Cookbook deferred lighting", "HLSL Development Cookbook ch. 2", nullptr,
-     kNoOptions},
+    {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
+     "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, kDeferredCookbookOptionKeys,
+     TexturePolicy::AllLinear},
     {"deferred-classic", "classic deferred shading", "PR&C D3D11 ch. 11", nullptr, kNoOptions},
     {"light-prepass", "light pre-pass (deferred lighting)", "PR&C D3D11 ch. 11", nullptr, kNoOptions},
 }};
@@ -83,6 +86,11 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision) {
     if (precision == Precision::Reference) names.insert(names.begin() + (names.empty() ? 0 : 1), std::string(kReferenceBufferName));
     return names;
+}
+
+void storeAsUnorm(const Surface& from, Surface& to) {
+    for (std::uint32_t y = 0; y < to.height(); ++y)
+        for (std::uint32_t x = 0; x < to.width(); ++x) to.store(x, y, 0, convert::clampUnorm(from.load(x, y)));
 }
 
 } // namespace tessera

@@ -67,7 +67,8 @@ TEST_CASE("a complete scene file round-trips every field") {
       "lights": [
         {"type": "point", "name": "p", "position": [1, 2, 3], "color": [0.5, 0.25, 1], "intensity": 2, "range": 7, "enabled": false},
         {"type": "spot", "position": [0, 1, 0], "direction": [0, -2, 0], "spotAngleDeg": 30},
-        {"type": "directional", "direction": [3, 0, 4]}
+        {"type": "directional", "direction": [3, 0, 4]},
+        {"type": "capsule", "position": [1, 0, 0], "direction": [0, 0, 2], "length": 3, "range": 2}
       ],
       "gltfLights": {"enabled": true, "defaultRange": 12},
       "generate": [
@@ -108,7 +109,7 @@ TEST_CASE("a complete scene file round-trips every field") {
     CHECK(d.techniqueOptions == nlohmann::json::parse(R"({"tileSize": 16, "nested": {"a": [1, 2]}})"));
     CHECK(d.precision == Precision::Reference);
 
-    REQUIRE(d.explicitLights.size() == 3);
+    REQUIRE(d.explicitLights.size() == 4);
     const auto& p = d.explicitLights[0];
     CHECK(p.type == LightType::Point);
     CHECK(p.name == "p");
@@ -129,6 +130,12 @@ TEST_CASE("a complete scene file round-trips every field") {
     CHECK(dl.type == LightType::Directional);
     CHECK(dl.directionWorld == glm::vec3(0.6f, 0.0f, 0.8f));
     CHECK(std::isinf(dl.range));
+    const auto& cl = d.explicitLights[3];
+    CHECK(cl.type == LightType::Capsule);
+    CHECK(cl.positionWorld == glm::vec3(1.0f, 0.0f, 0.0f));
+    CHECK(cl.directionWorld == glm::vec3(0.0f, 0.0f, 1.0f));
+    CHECK(cl.length == 3.0f);
+    CHECK(cl.range == 2.0f);
 
     CHECK(d.useGltfLights);
     CHECK(d.gltfLightDefaultRange == 12.0f);
@@ -315,6 +322,15 @@ TEST_CASE("structural errors: required keys, conflicting camera forms, light typ
                 "not used by a directional light");
     expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "spotAngleDeg": 30}])"), "/lights/0/spotAngleDeg",
                 "not used by a point light");
+    // Capsule lights: the segment needs a positive length; length belongs to capsules only.
+    expectError(scene(R"("lights": [{"type": "capsule", "position": [0, 0, 0], "direction": [1, 0, 0]}])"), "/lights/0",
+                "missing required key \"length\"");
+    expectError(scene(R"("lights": [{"type": "capsule", "position": [0, 0, 0], "direction": [1, 0, 0], "length": 0}])"),
+                "/lights/0/length", "0");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "length": 2}])"), "/lights/0/length",
+                "not used by a point light");
+    expectError(scene(R"("lights": [{"type": "capsule", "position": [0, 0, 0], "direction": [1, 0, 0], "length": 1, "spotAngleDeg": 9}])"),
+                "/lights/0/spotAngleDeg", "not used by a capsule light");
     expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0]}, {"type": "point", "position": [0, 0, 0], "range": -4}])"),
                 "/lights/1/range", "-4 is negative");
     expectError(scene(R"("generate": [{"seed": 3}])"), "/generate/0", "missing required key \"count\"");

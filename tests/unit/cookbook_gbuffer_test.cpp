@@ -93,7 +93,7 @@ TEST_CASE("cookbook gbuffer: linear depth and world position reconstruct project
     // CalcWorldPos with PV.xy = (1, 1) and ViewInv = I: cs (0.5, -0.5), z 1.980198 ->
     // (0.990099, -0.990099, 1.980198).
     const CookbookPerspectiveValues unit{1.0f, 1.0f, pv.z, pv.w};
-    const glm::vec3 p = cookbookWorldPosition({0.5f, -0.5f}, 1.980198f, unit, glm::mat4(1.0f));
+    const glm::vec3 p = cookbookWorldPosition(glm::vec2(0.5f, -0.5f), 1.980198f, unit, glm::mat4(1.0f));
     CHECK(p.x == doctest::Approx(0.990099f).epsilon(1e-5));
     CHECK(p.y == doctest::Approx(-0.990099f).epsilon(1e-5));
     CHECK(p.z == doctest::Approx(1.980198f).epsilon(1e-5));

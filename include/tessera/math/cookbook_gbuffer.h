@@ -51,13 +51,21 @@ struct CookbookPerspectiveValues {
 CookbookPerspectiveValues cookbookPerspectiveValues(const glm::mat4& projectionLh);
 
 // ConvertDepthToLinear: PerspectiveValues.z / (depth + PerspectiveValues.w), the view-space z
-// (the book's "linear depth") of a depth-buffer value: depth 0 -> Zn, 1 -> Zf.
-float cookbookLinearDepth(float depth, const CookbookPerspectiveValues& pv);
+// (the book's "linear depth") of a depth-buffer value: depth 0 -> Zn, 1 -> Zf. T = float is the
+// shader's arithmetic; T = double the reference mode's.
+template <class T>
+T cookbookLinearDepth(T depth, const CookbookPerspectiveValues& pv) {
+    return T(pv.z) / (depth + T(pv.w));
+}
 
 // CalcWorldPos: position = (csPos * PerspectiveValues.xy * linearDepth, linearDepth, 1) in view
 // space, then mul(position, ViewInv): the world position under the pixel whose clip-space x, y
 // is csPos. worldFromViewLh is the column-vector inverse view (ViewInv transposed).
-glm::vec3 cookbookWorldPosition(const glm::vec2& csPos, float linearDepth, const CookbookPerspectiveValues& pv,
-                                const glm::mat4& worldFromViewLh);
+template <class T>
+glm::vec<3, T> cookbookWorldPosition(const glm::vec<2, T>& csPos, T linearDepth, const CookbookPerspectiveValues& pv,
+                                     const glm::mat<4, 4, T>& worldFromViewLh) {
+    const glm::vec<4, T> posViewLh(csPos.x * T(pv.x) * linearDepth, csPos.y * T(pv.y) * linearDepth, linearDepth, T(1));
+    return glm::vec<3, T>(worldFromViewLh * posViewLh);
+}
 
 } // namespace tessera

@@ -37,6 +37,9 @@ struct LightTerm {
     bool combined = false;    // the model adds one colour per light (Intel's AccumulateBRDF)
 };
 
+// LightTerm::light of a pass that is no scene light (the Cookbook's ambient-only quad).
+inline constexpr std::uint32_t kAmbientLightTerm = 0xFFFFFFFFu;
+
 namespace detail {
 inline thread_local std::vector<LightTerm>* tWatchedLightTerms = nullptr;
 } // namespace detail

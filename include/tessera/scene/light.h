@@ -1,6 +1,8 @@
 // Lights in tessera's world units: point, spot and directional, the union of what
-// KHR_lights_punctual, the scene file's explicit lists and its generators describe. The 3dgep
-// shading model reads range and spotHalfAngleDeg exactly as its Light struct does (3dgep article §2.2.3).
+// KHR_lights_punctual, the scene file's explicit lists and its generators describe, and the
+// capsule lights of the HLSL Development Cookbook (scene files only; only deferred-cookbook
+// shades them, every other technique skips them with a warning). The 3dgep shading model reads
+// range and spotHalfAngleDeg exactly as its Light struct does (3dgep article §2.2.3).
 #pragma once
 
 #include <limits>
@@ -10,7 +12,8 @@
 
 namespace tessera {
 
-enum class LightType { Point = 0, Spot = 1, Directional = 2 };  // 3dgep's POINT, SPOT, DIRECTIONAL
+// 3dgep's POINT, SPOT, DIRECTIONAL; Capsule: the Cookbook's segment light (ch. 1 "Capsule light").
+enum class LightType { Point = 0, Spot = 1, Directional = 2, Capsule = 3 };
 
 struct Light {
     LightType type = LightType::Point;
@@ -21,6 +24,7 @@ struct Light {
     float range = std::numeric_limits<float>::infinity();  // world units; KHR: absent = infinite
     float spotHalfAngleDeg = 45.0f;       // 3dgep SpotlightAngle: the cone's half angle (outer), degrees
     float spotInnerHalfAngleDeg = 0.0f;   // KHR innerConeAngle in degrees (3dgep ignores it)
+    float length = 0.0f;  // capsule: the segment from positionWorld along directionWorld, world units
     bool enabled = true;
     std::string name;
 };

@@ -285,6 +285,7 @@ void accumulateLight(LightingResult<T>& total, const ViewLight<T>& light, T spec
     case LightType::Directional: result = doDirectionalLight<T, kFast>(light, specularPower, viewDirView, normalView, withSpecular); break;
     case LightType::Point: result = doPointLight<T, kFast>(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
     case LightType::Spot: result = doSpotLight<T, kFast>(light, specularPower, viewDirView, posView, normalView, withSpecular); break;
+    case LightType::Capsule: break;  // not a 3dgep light: viewLights disables capsules, so never reached
     }
     total.diffuse += result.diffuse;
     total.specular += result.specular;

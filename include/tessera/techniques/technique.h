@@ -75,4 +75,9 @@ inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
 // inserted after the back buffer when `precision` is Reference.
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision);
 
+// Writes a float target into `to` as the output merger converts a PS value for an UNORM target
+// without blending: NaN -> 0, clamp to [0, 1] (D3D11.3 §3.2.3.6), then `to`'s own encode (the
+// 8-bit rounding for the back buffer; none for precision reference's float copy). `from` may be `to`.
+void storeAsUnorm(const Surface& from, Surface& to);
+
 } // namespace tessera

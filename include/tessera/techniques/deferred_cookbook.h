@@ -1,0 +1,61 @@
+// The `deferred-cookbook` technique: deferred shading as the HLSL Development Cookbook builds it
+// (Feinstein 2013, ch. 2; the book's companion code where the chapter is silent): a G-buffer of
+// D24S8 depth, RGBA8 base colour + specular intensity, R11G11B10_FLOAT normal and RGBA8 packed
+// specular power; the directional light and the hemispheric ambient as a full-screen quad; point,
+// spot and capsule lights as the recipes' tessellated volumes (cookbook_volumes.h) with additive
+// blending; the position rebuilt from linear depth; then forward's transparent pass.
+#pragma once
+
+#include <array>
+#include <string_view>
+
+#include <glm/glm.hpp>
+
+#include <tessera/techniques/technique.h>
+
+namespace tessera {
+
+// Options (scene file "options", `render --option`); defaults are faithful to the chapter, each
+// other value a named correction (ERRATA.md):
+//   "specPowerUnpack": "printed" | "once"   printed: UnpackGBuffer's `norm + norm * 250` and the
+//       light PS's second decode, 0.1 + 250 * (251 norm) (ERRATA #22); once: 0.1 + 250 norm.
+//   "volumeCull": "table" | "front"   the volumes' rasterizer state: the recipe's table
+//       (D3D11_CULL_BACK, which keeps the faces towards the camera, so GREATER_EQUAL lights the
+//       geometry in front of the volume instead of inside it; ERRATA #23) or the prose and the
+//       companion code (D3D11_CULL_FRONT: the far side).
+//   "spotVolume": "book" | "demo"   book: the unit volume with SinAngle = CosAngle = sqrt(1/2)
+//       scaled by (R tan(outer) / sqrt(1/2), same, R), which misses the light's range off the axis
+//       for outer angles below 45 degrees (ERRATA #24); demo: the outer angle's sine and cosine in
+//       the domain shader and a uniform scale R (the companion code), enlarged to contain the cone.
+//   "cpPos": "vertex" | "pixel"   vertex: the clip-space xy the domain shader divides by w per
+//       vertex and the rasterizer interpolates (perspective-correct), so the rebuilt position is
+//       off inside the triangle and wrong where a volume crosses the eye plane (ERRATA #25);
+//       pixel: the pixel centre's clip-space xy from SV_Position (the later chapters' fix).
+//   "background": "book" | "stencil"   book: the directional pass runs with no depth-stencil view
+//       and shades every pixel, the background included (black: the cleared G-buffer); stencil:
+//       the companion code's G-buffer marks stencil 1 and every light tests EQUAL 1 (ERRATA #26).
+//   "volumeScale": "padded" | "range"   padded: the book's "range plus a small value", as the
+//       smallest enlargement that contains the light's region (cookbook_volumes.h); range: the
+//       companion code's exact range, whose flat faces cut inside the sphere.
+//   "lightGeometry": "volumes" | "quads"   volumes: the recipes; quads: every light as the
+//       full-screen quad (the baseline the volumes save work against: with conservative volumes,
+//       stencil and the pixel's cpPos the two images are equal bit for bit, tests/unit/deferred_cookbook_test.cpp).
+//   "sampler", "alphaTest": as forward (the transparent pass).
+inline constexpr std::array<std::string_view, 9> kDeferredCookbookOptionKeys{
+    "specPowerUnpack", "volumeCull", "spotVolume", "cpPos", "background", "volumeScale", "lightGeometry", "sampler", "alphaTest"};
+
+// CalcAmbient's constants (the companion code's AmbientDown / AmbientRange are set by its sample
+// app; tessera takes the 3dgep demo's global ambient (0.1, 0.1, 0.15) as the upper colour and a
+// tenth of it as the lower one).
+inline constexpr glm::vec3 kCookbookAmbientDown{0.01f, 0.01f, 0.015f};
+inline constexpr glm::vec3 kCookbookAmbientUp{0.1f, 0.1f, 0.15f};
+
+// Buffers: "backbuffer" R8G8B8A8_UNORM (the lights accumulate into it); "gbuffer.color"
+// R8G8B8A8_UNORM (base colour, specular intensity), "gbuffer.normal" R11G11B10_FLOAT (world
+// normal * 0.5 + 0.5), "gbuffer.specpow" R8G8B8A8_UNORM (R: packed power), "depth" D24_UNORM_S8_UINT;
+// precision reference adds "accumulation" R32G32B32A32_FLOAT (the double lighting) and
+// "backbuffer.reference". Passes: clear, gbuffer, lights (one step "shade" per light for
+// --dump-lights), [present], transparent.
+Frame buildDeferredCookbook(const TechniqueContext& context);
+
+} // namespace tessera
