@@ -384,7 +384,10 @@ void dumpRegistry(const tessera::BufferRegistry& registry, const fs::path& dir, 
             };
             addView(tessera::ViewChannel::Depth, "");
             if (tessera::formatInfo(s.format()).hasStencil) addView(tessera::ViewChannel::Stencil, ".stencil");
-            if (name.rfind("gbuffer.", 0) == 0) addView(tessera::ViewChannel::Alpha, ".alpha");  // opacity, packed power
+            if (name.rfind("gbuffer.", 0) == 0) {
+                addView(tessera::ViewChannel::Rgb, ".rgb");      // the colour without the data in alpha
+                addView(tessera::ViewChannel::Alpha, ".alpha");  // opacity, packed power, specular intensity
+            }
             // Light counts over the image (the tiled techniques' grids; --tile-size of the technique).
             const tessera::Surface* back = registry.find(tessera::kBackBufferName);
             if (name.rfind("lightgrid", 0) == 0 && back && o.viewTileSize)

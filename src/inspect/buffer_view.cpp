@@ -84,6 +84,18 @@ std::uint32_t heatColor(float t) {
 std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, ViewChannel channel, float exposure) {
     const FormatInfo& info = formatInfo(s.format());
     const std::uint32_t w = s.width(), h = s.height();
+    if (channel == ViewChannel::Rgb) {
+        if (info.hasDepth || info.kind == FormatKind::Uint || info.channels < 4) return std::nullopt;
+        BufferView v{makeImage(s, false), {}};
+        for (std::uint32_t y = 0; y < h; ++y)
+            for (std::uint32_t x = 0; x < w; ++x) {
+                const glm::vec3 rgb = glm::vec3(s.load(x, y)) * exposure;
+                store(v.image, x, y, packRgb(std::isnan(rgb.x) ? 0.0f : rgb.x, std::isnan(rgb.y) ? 0.0f : rgb.y,
+                                             std::isnan(rgb.z) ? 0.0f : rgb.z));
+            }
+        v.rule = "rgb x " + std::to_string(exposure) + " (exposure), opaque, clamped to [0, 1], NaN black";
+        return v;
+    }
     if (channel == ViewChannel::Alpha) {
         if (info.hasDepth || info.kind == FormatKind::Uint || info.channels < 4) return std::nullopt;
         float maxAlpha = 1.0f;
@@ -156,17 +168,21 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
         return v;
     }
     if (s.format() == Format::R8G8B8A8_UNORM || s.format() == Format::R8G8B8A8_UNORM_SRGB) return std::nullopt;
-    const bool normal = name.find("normal") != std::string_view::npos;
+    // Signed normals (view or world xyz in [-1, 1]) are remapped; an unsigned format can only hold
+    // an already encoded normal (the Cookbook's n * 0.5 + 0.5 in R11G11B10_FLOAT), shown as stored.
+    const bool normal = name.find("normal") != std::string_view::npos && s.format() != Format::R11G11B10_FLOAT;
+    const bool encodedNormal = name.find("normal") != std::string_view::npos && !normal;
     BufferView v{makeImage(s, false), {}};
     for (std::uint32_t y = 0; y < h; ++y)
         for (std::uint32_t x = 0; x < w; ++x) {
             glm::vec4 p = s.load(x, y);
             if (info.channels == 1) p = glm::vec4(p.x, p.x, p.x, 1.0f);
-            const glm::vec3 rgb = normal ? glm::vec3(p) * 0.5f + 0.5f : glm::vec3(p) * exposure;
+            const glm::vec3 rgb = normal ? glm::vec3(p) * 0.5f + 0.5f : encodedNormal ? glm::vec3(p) : glm::vec3(p) * exposure;
             store(v.image, x, y, packRgb(std::isnan(rgb.x) ? 0.0f : rgb.x, std::isnan(rgb.y) ? 0.0f : rgb.y,
                                          std::isnan(rgb.z) ? 0.0f : rgb.z));
         }
-    v.rule = normal ? "normal: rgb = xyz * 0.5 + 0.5" :
+    v.rule = normal          ? "normal: rgb = xyz * 0.5 + 0.5" :
+             encodedNormal   ? "normal stored as xyz * 0.5 + 0.5: rgb as stored" :
                       "colour: rgb x " + std::to_string(exposure) + " (exposure), clamped to [0, 1], NaN black" +
                           (info.channels == 1 ? " (one channel as grey)" : "");
     return v;

@@ -94,6 +94,19 @@ TEST_CASE("buffer view: a G-buffer's alpha alone, and tile light counts averaged
     CHECK(rgbAt(alpha->image, 1, 0) == 0xFFFFFFu);  // the max
     CHECK(rgbAt(alpha->image, 0, 0) == 0x808080u);  // 125 / 250 = 0.5 -> 128
     CHECK_FALSE(viewBuffer("depth", Surface({1, 1, Format::D32_FLOAT, 1}), ViewChannel::Alpha));
+    // The rgb alone, opaque: an RGBA8 target whose alpha is data (specular intensity 0.04).
+    Surface color({1, 1, Format::R8G8B8A8_UNORM, 1});
+    color.clearColor(glm::vec4(1.0f, 0.5f, 0.0f, 0.04f));
+    const auto rgb = viewBuffer("gbuffer.color", color, ViewChannel::Rgb);
+    REQUIRE(rgb);
+    CHECK(rgbAt(rgb->image, 0, 0) == (255u | (128u << 8)));  // 0.5 -> code 128 -> 128
+    CHECK_FALSE(viewBuffer("depth", Surface({1, 1, Format::D32_FLOAT, 1}), ViewChannel::Rgb));
+    // An encoded normal (R11G11B10_FLOAT holds n * 0.5 + 0.5) is shown as stored, not remapped again.
+    Surface encoded({1, 1, Format::R11G11B10_FLOAT, 1});
+    encoded.clearColor(glm::vec4(0.5f, 1.0f, 0.0f, 0.0f));
+    const auto n = viewBuffer("gbuffer.normal", encoded);
+    REQUIRE(n);
+    CHECK(rgbAt(n->image, 0, 0) == (128u | (255u << 8)));
 
     // A 2x1 grid of 4 px tiles over an 8x4 black image: counts 0 and 6.
     Surface grid({2, 1, Format::R32G32_UINT, 1});

@@ -21,7 +21,7 @@ struct BufferView {
 // Which picture of a buffer: its main view (Depth is that for every format; the name says what
 // it shows for depth formats), its stencil, or a colour format's alpha channel alone (G-buffers
 // keep data there: opacity, the packed specular power).
-enum class ViewChannel : std::uint8_t { Depth, Stencil, Alpha };
+enum class ViewChannel : std::uint8_t { Depth, Stencil, Alpha, Rgb };
 
 // The picture of `surface` (sample 0), chosen by format and name:
 //  - depth (ViewChannel::Depth of a depth format): covered depths (< 1) stretched over their
@@ -33,6 +33,9 @@ enum class ViewChannel : std::uint8_t { Depth, Stencil, Alpha };
 //  - float / SNORM / packed formats: names containing "normal" as n * 0.5 + 0.5, others
 //    rgb * exposure clamped to [0, 1] (one channel as grey);
 //  - R8G8B8A8 formats: nullopt (the dump is already viewable);
+//  - ViewChannel::Rgb of a four-channel colour format: its rgb, opaque (a G-buffer target whose
+//    alpha holds data, e.g. the Cookbook's specular intensity, looks empty in a viewer otherwise);
+//    nullopt for other formats;
 //  - ViewChannel::Alpha of a colour format: alpha as grey over [0, 1], or over [0, max] when the
 //    alpha exceeds 1 (a float G-buffer's unpacked specular power); nullopt for other formats.
 std::optional<BufferView> viewBuffer(std::string_view name, const Surface& surface, ViewChannel channel = ViewChannel::Depth,
