@@ -97,6 +97,14 @@ std::string caption(std::string_view technique, std::string_view pass) {
                                  "light list and the shading of the tile's pixels (Intel 2010 sample ComputeShaderTile.hlsl; "
                                  "ERRATA #12, #16)."},
         {"tiled-deferred/present", "The lit result converted to the back buffer."},
+        {"deferred-cookbook/gbuffer", "PackGBuffer: base colour and specular intensity (RGBA8), the world normal as n * 0.5 "
+                                      "+ 0.5 (R11G11B10_FLOAT), the specular power packed over [0.1, 250.1] (RGBA8) "
+                                      "and depth (Cookbook ch. 2, recipe GBuffer generation)."},
+        {"deferred-cookbook/lights", "The directional light and the hemispheric ambient as a full-screen quad, then each point, "
+                                     "spot and capsule light as its tessellated volume, additive; each pixel unpacks the "
+                                     "G-buffer and rebuilds its world position from linear depth (Cookbook ch. 2, recipes "
+                                     "GBuffer unpacking, Directional/Point/Capsule/Spot light; ERRATA #22-#26)."},
+        {"deferred-cookbook/present", "The float accumulation converted to the back buffer (precision reference)."},
     };
     if (const auto it = kPasses.find(key); it != kPasses.end()) return it->second;
     if (const auto it = kCommon.find(pass); it != kCommon.end()) return it->second;
@@ -111,6 +119,9 @@ std::string differenceNote(std::string_view technique) {
     if (technique == "forward-plus") return "light lists that may overflow (#15) and the cone test (#10); LESS_EQUAL against the pre-pass.";
     if (technique == "forward-plus-amd") return "AMD's own lighting model (falloff, Blinn-Phong power 8; #18) and D3D projection.";
     if (technique == "tiled-deferred") return "Intel's shading (linstep falloff, its G-buffer encoding) and D3D projection.";
+    if (technique == "deferred-cookbook")
+        return "the Cookbook's own lighting (Blinn-Phong, (1 - d/R)^2 falloff, hemispheric ambient), the printed specular "
+               "decode (#22), the table's cull mode (#23), the black background (#26) and D3D projection.";
     return "";
 }
 
