@@ -1,0 +1,47 @@
+// The G-buffer math of Practical Rendering and Computation with Direct3D 11 (Zink, Pettineo, Hoxley
+// 2011), ch. 11 "Deferred Rendering": the sphere-map normal codec (Listing 11.8), the xy + rebuilt z
+// normal (Eq. 11.3), linear depth from the hardware depth with ProjectionA / ProjectionB (Listing
+// 11.12) and the point light's scissor rectangle (Listing 11.14). Left-handed view space (+z
+// forward) as the chapter; float, in the listings' operation order. Tested against values worked
+// from the printed code in tests/unit/prc_gbuffer_test.cpp; the building blocks of the planned
+// `deferred-classic` and `light-prepass` techniques.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace tessera {
+
+// SpheremapEncode: normalize(n.xy) * sqrt(-n.z * 0.5 + 0.5). The result lies in the unit disc
+// (|e|^2 = (1 - n.z) / 2). n = (0, 0, +-1) normalizes (0, 0): NaN (as the HLSL would; the
+// chapter does not handle it, tests/unit/prc_gbuffer_test.cpp shows it).
+glm::vec2 prcSpheremapEncode(const glm::vec3& normal);
+// SpheremapDecode: nn = (e, 1, -1); l = dot(nn.xyz, -nn.xyw) = 1 - dot(e, e); nn.z = l;
+// nn.xy *= sqrt(l); return nn.xyz * 2 + (0, 0, -1).
+glm::vec3 prcSpheremapDecode(const glm::vec2& encoded);
+
+// Eq. 11.3: z = +-sqrt(1 - (x^2 + y^2)), the sign chosen by the caller (the chapter: store it in x
+// or y; assuming z < 0 in view space is wrong, Fig. 11.5). max(0, ...) keeps rounding from a NaN.
+glm::vec3 prcNormalFromXy(const glm::vec2& xy, bool positiveZ);
+
+// Listing 11.12: ProjectionA = Far / (Far - Near), ProjectionB = (-Far * Near) / (Far - Near);
+// linear (view) depth = ProjectionB / (depth - ProjectionA): depth 0 -> Near, 1 -> Far.
+struct PrcProjectionAB {
+    float a = 1.0f, b = 0.0f;
+};
+PrcProjectionAB prcProjectionAB(float nearZ, float farZ);
+float prcLinearDepth(float depth, const PrcProjectionAB& ab);
+
+// Listing 11.14: the screen rectangle of a point light's sphere (view-space centre, radius) for a
+// symmetric perspective projection with P(0, 0), P(1, 1), near / far clip distances and a
+// width x height viewport: the sphere's left/right/top/bottom points pushed towards or away from
+// the eye by the radius, clamped to [near, far], projected, clamped to [-1, 1], mapped to pixels
+// (top and bottom flipped) and truncated (static_cast<LONG>), then clamped to the viewport.
+struct PrcScissorRect {
+    std::int32_t left = 0, top = 0, right = 0, bottom = 0;
+};
+PrcScissorRect prcPointLightScissor(const glm::vec3& centerView, float radius, float proj00, float proj11, float nearZ,
+                                    float farZ, std::uint32_t widthPx, std::uint32_t heightPx);
+
+} // namespace tessera

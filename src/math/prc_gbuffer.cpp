@@ -1,0 +1,63 @@
+// PR&C D3D11 ch. 11 G-buffer math (math/prc_gbuffer.h), in the listings' operation order.
+#include <tessera/math/prc_gbuffer.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tessera {
+
+glm::vec2 prcSpheremapEncode(const glm::vec3& n) {
+    const glm::vec2 xy(n.x, n.y);
+    const glm::vec2 dir = xy / std::sqrt(xy.x * xy.x + xy.y * xy.y);  // normalize(normal.xy)
+    return dir * std::sqrt(-n.z * 0.5f + 0.5f);
+}
+
+glm::vec3 prcSpheremapDecode(const glm::vec2& e) {
+    glm::vec4 nn(e.x, e.y, 1.0f, -1.0f);
+    const float l = (nn.x * -nn.x + nn.y * -nn.y) + nn.z * -nn.w;  // dot(nn.xyz, -nn.xyw)
+    nn.z = l;
+    const float s = std::sqrt(l);
+    nn.x *= s;
+    nn.y *= s;
+    return glm::vec3(nn) * 2.0f + glm::vec3(0.0f, 0.0f, -1.0f);
+}
+
+glm::vec3 prcNormalFromXy(const glm::vec2& xy, bool positiveZ) {
+    const float z = std::sqrt(std::max(0.0f, 1.0f - (xy.x * xy.x + xy.y * xy.y)));
+    return {xy.x, xy.y, positiveZ ? z : -z};
+}
+
+PrcProjectionAB prcProjectionAB(float nearZ, float farZ) {
+    return {farZ / (farZ - nearZ), (-farZ * nearZ) / (farZ - nearZ)};
+}
+
+float prcLinearDepth(float depth, const PrcProjectionAB& ab) { return ab.b / (depth - ab.a); }
+
+PrcScissorRect prcPointLightScissor(const glm::vec3& c, float radius, float proj00, float proj11, float nearZ, float farZ,
+                                    std::uint32_t widthPx, std::uint32_t heightPx) {
+    glm::vec3 top = c + glm::vec3(0.0f, radius, 0.0f), bottom = c - glm::vec3(0.0f, radius, 0.0f);
+    glm::vec3 left = c - glm::vec3(radius, 0.0f, 0.0f), right = c + glm::vec3(radius, 0.0f, 0.0f);
+    left.z = left.x < 0.0f ? left.z - radius : left.z + radius;
+    right.z = right.x < 0.0f ? right.z + radius : right.z - radius;
+    top.z = top.y < 0.0f ? top.z + radius : top.z - radius;
+    bottom.z = bottom.y < 0.0f ? bottom.z - radius : bottom.z + radius;
+    for (glm::vec3* p : {&left, &right, &top, &bottom}) p->z = std::clamp(p->z, nearZ, farZ);
+    float leftCs = std::clamp(left.x * proj00 / left.z, -1.0f, 1.0f);
+    float rightCs = std::clamp(right.x * proj00 / right.z, -1.0f, 1.0f);
+    float topCs = std::clamp(top.y * proj11 / top.z, -1.0f, 1.0f);
+    float bottomCs = std::clamp(bottom.y * proj11 / bottom.z, -1.0f, 1.0f);
+    const float leftSs = leftCs * 0.5f + 0.5f, rightSs = rightCs * 0.5f + 0.5f;
+    const float topSs = 1.0f - (topCs * 0.5f + 0.5f), bottomSs = 1.0f - (bottomCs * 0.5f + 0.5f);
+    PrcScissorRect r;
+    r.left = static_cast<std::int32_t>(leftSs * float(widthPx));
+    r.right = static_cast<std::int32_t>(rightSs * float(widthPx));
+    r.top = static_cast<std::int32_t>(topSs * float(heightPx));
+    r.bottom = static_cast<std::int32_t>(bottomSs * float(heightPx));
+    r.left = std::max(r.left, 0);
+    r.top = std::max(r.top, 0);
+    r.right = std::min(r.right, std::int32_t(widthPx));
+    r.bottom = std::min(r.bottom, std::int32_t(heightPx));
+    return r;
+}
+
+} // namespace tessera
