@@ -25,6 +25,8 @@
 #include <tessera/techniques/light_volumes.h>
 #include <tessera/techniques/technique_options.h>
 
+#include "gbuffer_pass.h"
+
 namespace tessera {
 namespace {
 
@@ -539,14 +541,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 
     // The demo's TransparentPass with g_pTransparentPipeline, as forward's (3dgep article §3.4:
     // "identical to the forward rendering technique"), over the back buffer and the G-buffer's depth.
-    frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-               [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(kBackBufferName);
-                   if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
-                   rt.depthStencil = &reg.get("depth");
-                   drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
-               }});
+    frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;
 }
 

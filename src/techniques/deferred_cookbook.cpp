@@ -18,6 +18,8 @@
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique_options.h>
 
+#include "gbuffer_pass.h"
+
 namespace tessera {
 namespace {
 
@@ -218,8 +220,9 @@ struct CookbookSetup {
 // clockwise on screen (D3D11's front face), at z = 0, w = 1.
 void setQuad(LightDraw& d) {
     d.quad = true;
-    d.vertices = {{{-1.0f, 1.0f, 0.0f}}, {{1.0f, 1.0f, 0.0f}}, {{-1.0f, -1.0f, 0.0f}}, {{1.0f, -1.0f, 0.0f}}};
-    d.indices = {0, 1, 2, 1, 3, 2};  // the strip's second triangle (v1, v3, v2)
+    d.vertices.clear();
+    for (const glm::vec3& p : gbuffer_detail::kQuadClip) d.vertices.push_back({p});
+    d.indices.assign(gbuffer_detail::kQuadIndices.begin(), gbuffer_detail::kQuadIndices.end());
     d.clipFromLocal = glm::mat4(1.0f);
 }
 
@@ -469,37 +472,14 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
     const SceneResources* res = ctx.resources;
     const std::vector<std::string> gbuffer{"gbuffer.color", "gbuffer.normal", "gbuffer.specpow", "depth"};
     frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
-                   const ForwardPassSetup& f = *setup->forward;
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.color");
                    rt.colors[1] = &reg.get("gbuffer.normal");
                    rt.colors[2] = &reg.get("gbuffer.specpow");
                    rt.depthStencil = &reg.get("depth");
-                   for (const DrawItem& item : res->drawItems()) {
-                       const PhongMaterial material = phongFromGltf(res->material(item.material));
-                       if (material.isTransparent()) continue;  // opaque only; translucency is forward-rendered after
-                       DrawState st = makeDrawState(gbufferState(setup->options.stencil),
-                                                    Viewport{0.0f, 0.0f, float(f.width), float(f.height), 0.0f, 1.0f});
-                       st.precision = f.precision;
-                       st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-                       st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-                       const glm::mat4 viewFromObject = f.viewFromWorld * item.worldFromObject;
-                       const PhongVS vs{f.clipFromView * viewFromObject, viewFromObject};
-                       const PrimitiveBuffer& prim = res->primitives()[item.primitive];
-                       const PhongShaderData<float> data =
-                           makePhongShaderData<float>(material, *f.textures, std::span<const ViewLight<float>>());
-                       const PhongGatherVariant variant = selectPhongGather(phongFeatures(material, true), "cookbook-gbuffer");
-                       if (variantCounts) ++(*variantCounts)[variant.name];
-                       const auto run = [&](auto ps) {
-                           ps.gather = variant.fn;
-                           ps.data = &data;
-                           ps.worldFromView = setup->worldFromView;
-                           DrawStats s = device->draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
-                           if (stats) *stats += s;
-                       };
-                       if (variant.mayDiscard) run(CookbookGBufferPS<true>{});
-                       else run(CookbookGBufferPS<false>{});
-                   }
+                   gbuffer_detail::drawOpaqueGBuffer<CookbookGBufferPS>(
+                       *setup->forward, *device, *res, rt, gbufferState(setup->options.stencil), "cookbook-gbuffer",
+                       [&](auto& ps) { ps.worldFromView = setup->worldFromView; }, stats, variantCounts);
                }});
 
     const std::vector<std::string> lightReads{"gbuffer.color", "gbuffer.normal", "gbuffer.specpow", "depth"};
@@ -528,14 +508,7 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
                        storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
                    }});
     }
-    frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-               [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(kBackBufferName);
-                   if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
-                   rt.depthStencil = &reg.get("depth");
-                   drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
-               }});
+    frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;
 }
 

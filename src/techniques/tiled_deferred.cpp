@@ -24,6 +24,8 @@
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique_options.h>
 
+#include "gbuffer_pass.h"
+
 namespace tessera {
 
 // ----- Intel's shading and G-buffer math (public, tiled_deferred.h) -----------------------------
@@ -623,14 +625,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
 
     // Transparent geometry: Intel's sample has none; tessera draws it as deferred does, with
     // forward's TransparentPass (3dgep shading, every light) over the image and the G-buffer depth.
-    frame.add({"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-               [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(kBackBufferName);
-                   if (setup->forward->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
-                   rt.depthStencil = &reg.get("depth");
-                   drawForwardPass(*setup->forward, *device, *res, rt, true, stats, variantCounts);
-               }});
+    frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;
 }
 

@@ -1,0 +1,73 @@
+// Pieces the G-buffer techniques share (deferred-cookbook, deferred-classic, light-prepass): the
+// opaque geometry pass through a G-buffer pixel shader fed by the Phong material gather, the
+// full-screen quad of the light passes, and forward's transparent pass over the lit image.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include <tessera/shading/phong_surface.h>
+#include <tessera/techniques/deferred_states.h>
+#include <tessera/techniques/forward.h>
+
+namespace tessera::gbuffer_detail {
+
+// Every opaque draw item (transparent materials are left to the forward pass) drawn with `pass`
+// (the item's winding and double-sidedness applied, as forward's opaque pass), through
+// PS<mayDiscard> whose `gather` and `data` this sets; `configure(ps)` sets the rest.
+template <template <bool> class PS, class Configure>
+void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneResources& res, const RenderTargets& rt,
+                       const PassState& pass, std::string_view variantPrefix, Configure&& configure, DrawStats* stats,
+                       std::map<std::string, std::uint64_t>* variantCounts) {
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;
+        DrawState st = makeDrawState(pass, Viewport{0.0f, 0.0f, float(f.width), float(f.height), 0.0f, 1.0f});
+        st.precision = f.precision;
+        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        const glm::mat4 viewFromObject = f.viewFromWorld * item.worldFromObject;
+        const PhongVS vs{f.clipFromView * viewFromObject, viewFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const PhongShaderData<float> data = makePhongShaderData<float>(material, *f.textures, std::span<const ViewLight<float>>());
+        const PhongGatherVariant variant = selectPhongGather(phongFeatures(material, true), variantPrefix);
+        if (variantCounts) ++(*variantCounts)[variant.name];
+        const auto run = [&](auto ps) {
+            ps.gather = variant.fn;
+            ps.data = &data;
+            configure(ps);
+            DrawStats s = device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
+            if (stats) *stats += s;
+        };
+        if (variant.mayDiscard) run(PS<true>{});
+        else run(PS<false>{});
+    }
+}
+
+// A full-screen quad in clip space at z = 0, w = 1, as the triangle strip (-1, 1), (1, 1),
+// (-1, -1), (1, -1): two triangles, clockwise on screen (D3D11's default front face).
+inline constexpr std::array<glm::vec3, 4> kQuadClip{{{-1.0f, 1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}}};
+inline constexpr std::array<std::uint32_t, 6> kQuadIndices{0, 1, 2, 1, 3, 2};  // the strip's second triangle is (v1, v3, v2)
+
+// Forward's transparent pass over the back buffer (and the reference copy) with the technique's depth.
+inline Pass forwardTransparentPass(std::shared_ptr<const ForwardPassSetup> setup, const TechniqueContext& ctx) {
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+    const bool reference = ctx.precision == Precision::Reference;
+    const std::string back(kBackBufferName);
+    return {"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
+            [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
+                RenderTargets rt;
+                rt.colors[0] = &reg.get(kBackBufferName);
+                if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+                rt.depthStencil = &reg.get("depth");
+                drawForwardPass(*setup, *device, *res, rt, true, stats, variantCounts);
+            }};
+}
+
+} // namespace tessera::gbuffer_detail
