@@ -105,6 +105,11 @@ std::string caption(std::string_view technique, std::string_view pass) {
                                      "G-buffer and rebuilds its world position from linear depth (Cookbook ch. 2, recipes "
                                      "GBuffer unpacking, Directional/Point/Capsule/Spot light; ERRATA #22-#26)."},
         {"deferred-cookbook/present", "The float accumulation converted to the back buffer (precision reference)."},
+        {"deferred-classic/gbuffer", "Four R32G32B32A32_FLOAT targets: world normal, diffuse albedo, specular albedo and "
+                                     "power, world position, 64 bytes a pixel (PR&C D3D11 ch. 11 §11.2, Listing 11.1)."},
+        {"deferred-classic/lights", "One additive full-screen pass per light reading the G-buffer at the pixel (PR&C D3D11 "
+                                    "ch. 11 §11.2, Listing 11.3; ERRATA #27); scissor rectangles and light volumes "
+                                    "(§11.4.2) are options that shade the same pixels for less work."},
     };
     if (const auto it = kPasses.find(key); it != kPasses.end()) return it->second;
     if (const auto it = kCommon.find(pass); it != kCommon.end()) return it->second;
@@ -119,6 +124,9 @@ std::string differenceNote(std::string_view technique) {
     if (technique == "forward-plus") return "light lists that may overflow (#15) and the cone test (#10); LESS_EQUAL against the pre-pass.";
     if (technique == "forward-plus-amd") return "AMD's own lighting model (falloff, Blinn-Phong power 8; #18) and D3D projection.";
     if (technique == "tiled-deferred") return "Intel's shading (linstep falloff, its G-buffer encoding) and D3D projection.";
+    if (technique == "deferred-classic")
+        return "the chapter's lighting (linear falloff, Blinn-Phong times N.L, no ambient: the background stays black), "
+               "the unnormalized V (#27) and D3D projection.";
     if (technique == "deferred-cookbook")
         return "the Cookbook's own lighting (Blinn-Phong, (1 - d/R)^2 falloff, hemispheric ambient), the printed specular "
                "decode (#22), the table's cull mode (#23), the black background (#26) and D3D projection.";

@@ -34,7 +34,7 @@ PrcProjectionAB prcProjectionAB(float nearZ, float farZ) {
 float prcLinearDepth(float depth, const PrcProjectionAB& ab) { return ab.b / (depth - ab.a); }
 
 PrcScissorRect prcPointLightScissor(const glm::vec3& c, float radius, float proj00, float proj11, float nearZ, float farZ,
-                                    std::uint32_t widthPx, std::uint32_t heightPx) {
+                                    std::uint32_t widthPx, std::uint32_t heightPx, bool roundOut) {
     glm::vec3 top = c + glm::vec3(0.0f, radius, 0.0f), bottom = c - glm::vec3(0.0f, radius, 0.0f);
     glm::vec3 left = c - glm::vec3(radius, 0.0f, 0.0f), right = c + glm::vec3(radius, 0.0f, 0.0f);
     left.z = left.x < 0.0f ? left.z - radius : left.z + radius;
@@ -50,9 +50,10 @@ PrcScissorRect prcPointLightScissor(const glm::vec3& c, float radius, float proj
     const float topSs = 1.0f - (topCs * 0.5f + 0.5f), bottomSs = 1.0f - (bottomCs * 0.5f + 0.5f);
     PrcScissorRect r;
     r.left = static_cast<std::int32_t>(leftSs * float(widthPx));
-    r.right = static_cast<std::int32_t>(rightSs * float(widthPx));
+    r.right = roundOut ? static_cast<std::int32_t>(std::ceil(rightSs * float(widthPx))) : static_cast<std::int32_t>(rightSs * float(widthPx));
     r.top = static_cast<std::int32_t>(topSs * float(heightPx));
-    r.bottom = static_cast<std::int32_t>(bottomSs * float(heightPx));
+    r.bottom = roundOut ? static_cast<std::int32_t>(std::ceil(bottomSs * float(heightPx)))
+                        : static_cast<std::int32_t>(bottomSs * float(heightPx));
     r.left = std::max(r.left, 0);
     r.top = std::max(r.top, 0);
     r.right = std::min(r.right, std::int32_t(widthPx));

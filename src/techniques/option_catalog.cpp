@@ -38,6 +38,9 @@ constexpr std::array<std::string_view, 2> kCpPos{"vertex", "pixel"};
 constexpr std::array<std::string_view, 2> kBackground{"book", "stencil"};
 constexpr std::array<std::string_view, 2> kVolumeScale{"padded", "range"};
 constexpr std::array<std::string_view, 2> kLightGeometry{"volumes", "quads"};
+constexpr std::array<std::string_view, 3> kClassicGeometry{"quads", "scissor", "volumes"};
+constexpr std::array<std::string_view, 2> kViewVector{"printed", "normalized"};
+constexpr std::array<std::string_view, 2> kScissorRound{"truncate", "out"};
 constexpr std::array<std::string_view, 0> kNone{};
 
 constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
@@ -68,6 +71,18 @@ constexpr std::array<OptionInfo, 9> kDeferredCookbook{
                "volumes enlarged to contain the light's range (the book's 'plus a small value'), or exactly the range"},
     OptionInfo{"lightGeometry", Kind::Word, kLightGeometry, -1, "volumes", "", 0,
                "the recipes' volumes, or every light as a full-screen quad (the baseline the volumes must match)"},
+    kSamplerOption,
+    kAlphaTestOption};
+
+constexpr std::array<OptionInfo, 6> kDeferredClassic{
+    OptionInfo{"lightGeometry", Kind::Word, kClassicGeometry, -1, "quads", "", 0,
+               "a full-screen quad per light (§11.2), the quad cut by the light's scissor rectangle, or its volume (§11.4.2)"},
+    OptionInfo{"viewVector", Kind::Word, kViewVector, -1, "printed", "normalized", 27,
+               "Listing 11.3's unnormalized V in H = normalize(L + V), or Eq. 11.1's unit V"},
+    OptionInfo{"scissorRound", Kind::Word, kScissorRound, -1, "truncate", "out", 28,
+               "Listing 11.14 truncates the rectangle's right and bottom edges, or rounds them up"},
+    OptionInfo{"stencil", Kind::Bool, kBool, -1, "false", "", 0,
+               "the stencil mask of lit geometry (G-buffer REPLACE 1, lights EQUAL 1)"},
     kSamplerOption,
     kAlphaTestOption};
 
@@ -155,13 +170,14 @@ struct TechniqueOptions {
     std::span<const OptionInfo> options;
 };
 
-constexpr std::array<TechniqueOptions, 7> kCatalog{{{"forward", kForward},
+constexpr std::array<TechniqueOptions, 8> kCatalog{{{"forward", kForward},
                                                     {"deferred", kDeferred},
                                                     {"deferred-killzone", kKillzone},
                                                     {"forward-plus", kForwardPlus},
                                                     {"forward-plus-amd", kForwardPlusAmd},
                                                     {"tiled-deferred", kTiledDeferred},
-                                                    {"deferred-cookbook", kDeferredCookbook}}};
+                                                    {"deferred-cookbook", kDeferredCookbook},
+                                                    {"deferred-classic", kDeferredClassic}}};
 
 bool listed(const OptionInfo& option, std::string_view text) {
     for (const std::string_view v : option.values)

@@ -8,6 +8,7 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/io/input_error.h>
 #include <tessera/techniques/deferred.h>
+#include <tessera/techniques/deferred_classic.h>
 #include <tessera/techniques/deferred_cookbook.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
@@ -39,7 +40,8 @@ const std::array<TechniqueInfo, 10> kTechniques{{
     {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
      "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, kDeferredCookbookOptionKeys,
      TexturePolicy::AllLinear},
-    {"deferred-classic", "classic deferred shading", "PR&C D3D11 ch. 11", nullptr, kNoOptions},
+    {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
+     "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear},
     {"light-prepass", "light pre-pass (deferred lighting)", "PR&C D3D11 ch. 11", nullptr, kNoOptions},
 }};
 

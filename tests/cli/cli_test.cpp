@@ -127,7 +127,7 @@ TEST_CASE("cli: options lists every technique's options, and render --option is 
     INFO(all.output);
     CHECK(all.exitCode == 0);
     for (const char* line : {"forward-plus\n", "  coneTest          demo | corrected", "ERRATA.md #10", "tileListCapacity",
-                             "integer >= 1 | unbounded", "preview: no options", "deferred-classic (planned)", "specPowerUnpack"})
+                             "integer >= 1 | unbounded", "preview: no options", "light-prepass (planned)", "specPowerUnpack"})
         CHECK_MESSAGE(all.output.find(line) != std::string::npos, line);
     const Run one = run("options deferred");
     CHECK(one.exitCode == 0);
@@ -232,7 +232,7 @@ TEST_CASE("cli: bad scene input exits 2, names the file and key, and writes noth
     CHECK(missing.exitCode == 2);
     CHECK(missing.output.find("no-such-scene: no such file") != std::string::npos);
     std::filesystem::remove(dir / "x.png");  // a previous run's, if any
-    const Run planned = run("render default --technique deferred-classic --out " + (dir / "x.png").string());
+    const Run planned = run("render default --technique light-prepass --out " + (dir / "x.png").string());
     CHECK(planned.exitCode == 2);
     CHECK(planned.output.find("not implemented yet") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir / "x.png"));

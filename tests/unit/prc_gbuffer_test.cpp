@@ -123,6 +123,37 @@ TEST_CASE("prc gbuffer: the point-light scissor rectangle of Listing 11.14, work
     CHECK(points > 5000);
 }
 
+TEST_CASE("prc gbuffer: truncating the scissor's right and bottom edges drops lit pixel centres, rounding out keeps them (ERRATA #28)") {
+    // A pixel is shaded when its centre (i + 0.5) lies in the rectangle [left, right). Points of the
+    // sphere projecting into [trunc(right), right_exact) have centres the truncated rectangle drops.
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::normal_distribution<float> g;
+    int dropped = 0, keptOut = 0, checked = 0;
+    for (int s = 0; s < 50; ++s) {
+        const glm::vec3 c(u(rng) * 10.0f, u(rng) * 6.0f, 12.0f + u(rng) * 8.0f);
+        const float radius = 1.0f + std::abs(u(rng)) * 3.0f;
+        const PrcScissorRect cut = prcPointLightScissor(c, radius, 0.5625f, 1.0f, 1.0f, 100.0f, 1280, 720);
+        const PrcScissorRect out = prcPointLightScissor(c, radius, 0.5625f, 1.0f, 1.0f, 100.0f, 1280, 720, true);
+        for (int i = 0; i < 400; ++i) {
+            const glm::vec3 q = c + radius * glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+            if (q.z < 1.0f) continue;
+            const float xPx = (q.x * 0.5625f / q.z * 0.5f + 0.5f) * 1280.0f;
+            const float yPx = (1.0f - (q.y / q.z * 0.5f + 0.5f)) * 720.0f;
+            if (xPx < 0.0f || xPx >= 1280.0f || yPx < 0.0f || yPx >= 720.0f) continue;
+            // The pixel the point projects into: the sphere's projection covers it, so the light can
+            // reach the surface that pixel sees.
+            const auto px = std::int32_t(xPx), py = std::int32_t(yPx);
+            dropped += (px >= cut.right || py >= cut.bottom) ? 1 : 0;
+            keptOut += (px >= out.right || py >= out.bottom) ? 1 : 0;
+            ++checked;
+        }
+    }
+    CHECK(checked > 5000);
+    CHECK(dropped > 0);    // truncation loses pixels the sphere covers
+    CHECK(keptOut == 0);   // rounded out, every covered pixel is inside
+}
+
 TEST_CASE("prc lighting: Listing 11.3's point light and the light pre-pass buffer, worked values") {
     // n (0, 1, 0) at the origin, light at (0, 3, 4) range 10 colour 1, albedos 1, power 16, camera
     // (0, 10, 0): d = 5 -> attenuation 0.5; L = (0, 0.6, 0.8) -> N.L 0.6; V unnormalized (0, 10, 0):

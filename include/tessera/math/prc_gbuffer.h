@@ -38,10 +38,12 @@ float prcLinearDepth(float depth, const PrcProjectionAB& ab);
 // width x height viewport: the sphere's left/right/top/bottom points pushed towards or away from
 // the eye by the radius, clamped to [near, far], projected, clamped to [-1, 1], mapped to pixels
 // (top and bottom flipped) and truncated (static_cast<LONG>), then clamped to the viewport.
+// roundOut: the right and bottom edges rounded up instead (truncating them drops the last partly
+// covered column and row, ERRATA #28).
 struct PrcScissorRect {
     std::int32_t left = 0, top = 0, right = 0, bottom = 0;
 };
 PrcScissorRect prcPointLightScissor(const glm::vec3& centerView, float radius, float proj00, float proj11, float nearZ,
-                                    float farZ, std::uint32_t widthPx, std::uint32_t heightPx);
+                                    float farZ, std::uint32_t widthPx, std::uint32_t heightPx, bool roundOut = false);
 
 } // namespace tessera

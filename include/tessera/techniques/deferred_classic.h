@@ -1,0 +1,42 @@
+// The `deferred-classic` technique: classic deferred shading as Practical Rendering and Computation
+// with Direct3D 11 builds it (Zink, Pettineo, Hoxley 2011, ch. 11 §11.2 and the light-shading
+// optimizations of §11.4.2): a 4 x R32G32B32A32_FLOAT G-buffer (world normal, diffuse albedo,
+// specular albedo + power, world position; 64 B/px), then one additive pass per light that reads it
+// at the pixel and evaluates Listing 11.3's CalcLighting, over a full-screen quad, a quad cut by the
+// light's scissor rectangle (Listing 11.14), or the light's volume; then forward's transparent pass.
+#pragma once
+
+#include <array>
+#include <string_view>
+
+#include <tessera/techniques/technique.h>
+
+namespace tessera {
+
+// Options (scene file "options", `render --option`); defaults are faithful to the chapter:
+//   "lightGeometry": "quads" | "scissor" | "volumes"   quads: §11.2, every light a full-screen
+//       quad; scissor: the quad cut by Listing 11.14's rectangle (point and spot lights); volumes:
+//       the 3dgep sphere and cone meshes scaled to contain the light, drawn as the chapter's
+//       companion code chooses: a volume crossing both clip planes as the quad, one crossing the
+//       far plane with its front faces and LESS_EQUAL, any other with its back faces and
+//       GREATER_EQUAL (works with the eye inside). All three shade the same pixels' light.
+//   "viewVector": "printed" | "normalized"   printed: Listing 11.3's V = CameraPos - position,
+//       not normalized, in H = normalize(L + V) (ERRATA #27); normalized: Eq. 11.1's unit V.
+//   "scissorRound": "truncate" | "out"   truncate: Listing 11.14's static_cast<LONG> of the right
+//       and bottom edges, which drops the last partly covered column and row (ERRATA #28);
+//       out: rounded up.
+//   "stencil": false | true   §11.4.2's stencil mask: the G-buffer pass writes 1 under geometry
+//       (ALWAYS / REPLACE) and the light passes test EQUAL 1 (sky pixels skip the shader).
+//   "sampler", "alphaTest": as forward (the transparent pass).
+inline constexpr std::array<std::string_view, 6> kDeferredClassicOptionKeys{"lightGeometry", "viewVector", "scissorRound",
+                                                                            "stencil",       "sampler",    "alphaTest"};
+
+// Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
+// ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"
+// R32G32B32A32_FLOAT (Listing 11.1: (N, 1), (albedo, 1), (specular albedo, power), (P, 1), world
+// space); "depth" D24_UNORM_S8_UINT; precision reference adds "accumulation" and
+// "backbuffer.reference" R32G32B32A32_FLOAT. Passes: clear, gbuffer, lights (step "shade" per
+// light for --dump-lights), [present], transparent.
+Frame buildDeferredClassic(const TechniqueContext& context);
+
+} // namespace tessera

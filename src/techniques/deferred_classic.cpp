@@ -1,0 +1,348 @@
+// The `deferred-classic` technique (techniques/deferred_classic.h; PR&C D3D11 ch. 11 §11.2, §11.4.2):
+// clear -> G-buffer (Listing 11.1) -> lights (Listing 11.3 over quads, scissored quads or volumes,
+// additive) -> [present] -> forward's transparent pass.
+#include <tessera/techniques/deferred_classic.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <tessera/buffers/target_reader.h>
+#include <tessera/math/det_math.h>
+#include <tessera/math/prc_gbuffer.h>
+#include <tessera/shading/prc_lighting.h>
+#include <tessera/techniques/light_volumes.h>
+#include <tessera/techniques/technique_options.h>
+
+#include "gbuffer_pass.h"
+
+namespace tessera {
+namespace {
+
+enum class Geometry : std::uint8_t { Quads, Scissor, Volumes };
+
+struct ClassicOptions {
+    Geometry geometry = Geometry::Quads;
+    bool normalizeV = false;
+    bool roundOut = false;
+    bool stencil = false;
+    PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
+    bool alphaTest = false;
+};
+
+ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
+    const nlohmann::json& j = ctx.options;
+    ClassicOptions o;
+    const std::string g = optionEnum(j, "lightGeometry", {"quads", "scissor", "volumes"}, "quads", file);
+    o.geometry = g == "scissor" ? Geometry::Scissor : g == "volumes" ? Geometry::Volumes : Geometry::Quads;
+    o.normalizeV = optionEnum(j, "viewVector", {"printed", "normalized"}, "printed", file) == "normalized";
+    o.roundOut = optionEnum(j, "scissorRound", {"truncate", "out"}, "truncate", file) == "out";
+    o.stencil = optionBool(j, "stencil", false, file);
+    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = optionBool(j, "alphaTest", false, file);
+    return o;
+}
+
+// Listing 11.1's PS: (normalize(NormalWS), 1), (albedo, 1), (SpecularAlbedo, SpecularPower),
+// (PositionWS, 1), from the Phong gather (world = the rigid view's inverse of view space).
+template <bool kDiscard>
+struct ClassicGBufferPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 4;
+    static constexpr bool kMayDiscard = kDiscard;
+    PhongGatherFn gather = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    glm::mat4 worldFromView{1.0f};
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<4>& out) const {
+        PhongSurface<float> s;
+        if (!gather(*data, in, s)) {
+            out.discard();
+            return;
+        }
+        const glm::vec3 normalWorld = hlsl::normalize(glm::mat3(worldFromView) * glm::vec3(s.normalView));
+        out.target[0] = glm::vec4(normalWorld, 1.0f);
+        out.target[1] = glm::vec4(glm::vec3(s.diffuse), 1.0f);
+        out.target[2] = glm::vec4(glm::vec3(s.specular), s.specularPower);
+        out.target[3] = glm::vec4(glm::vec3(worldFromView * glm::vec4(in.varyings.posView, 1.0f)), 1.0f);
+    }
+};
+
+struct ClassicShared {
+    TargetReader normal, diffuse, specular, position;
+    glm::vec3 cameraWorld{0.0f};
+    bool normalizeV = false;
+};
+
+struct LocalVertex {
+    glm::vec3 pos;
+};
+struct ClassicVS {
+    using Varyings = NoVaryings;
+    glm::mat4 clipFromLocal{1.0f};
+    VertexOutput<NoVaryings> operator()(const LocalVertex& v) const { return {clipFromLocal * glm::vec4(v.pos, 1.0f), {}}; }
+};
+
+// Listing 11.3's PS: Load the four targets at int(SV_Position), CalcLighting, float4(lighting, 1).
+template <class T>
+struct ClassicLightPS {
+    using Varyings = NoVaryings;
+    static constexpr int kTargetCount = 1;
+    const ClassicShared* shared = nullptr;
+    const PrcLight<T>* light = nullptr;
+    std::uint32_t lightIndex = 0;
+    void operator()(const PixelInput<NoVaryings>& in, PixelOutput<1>& out) const {
+        const ClassicShared& g = *shared;
+        const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
+        const Vec3<T> normal(glm::vec3(g.normal.load(x, y)));
+        const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y)));
+        const glm::vec4 spec = g.specular.load(x, y);
+        const Vec3<T> position(glm::vec3(g.position.load(x, y)));
+        const Vec3<T> lighting =
+            prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), T(spec.w), Vec3<T>(g.cameraWorld), g.normalizeV);
+        if (std::vector<LightTerm>* trace = watchedLightTerms()) [[unlikely]] {
+            LightTerm term;
+            term.light = lightIndex;
+            term.combined = true;
+            const PrcIncidence<T> inc = prcIncidence(*light, position);
+            term.falloff = float(inc.attenuation);
+            term.nDotL = float(hlsl::dot(normal, inc.toLight));
+            if (light->type != LightType::Directional) {
+                term.distance = float(glm::length(glm::dvec3(light->position - position)));
+                term.range = float(light->range);
+            }
+            term.diffuse = glm::vec4(glm::vec3(lighting), 0.0f);
+            trace->push_back(term);
+        }
+        out.target[0] = glm::vec4(glm::vec3(lighting), 1.0f);
+    }
+};
+
+// One light's draw: its PrcLight (float and double), mesh, matrix and states.
+struct ClassicDraw {
+    std::uint32_t index = 0;
+    PrcLight<float> lightExact;
+    PrcLight<double> lightReference;
+    std::vector<LocalVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    glm::mat4 clipFromLocal{1.0f};
+    PassState pass;
+    bool scissor = false;
+    ScissorRect rect;
+};
+
+struct ClassicSetup {
+    ClassicOptions options;
+    std::shared_ptr<ForwardPassSetup> forward;
+    ClassicShared shared;
+    glm::mat4 worldFromView{1.0f};
+    std::vector<ClassicDraw> draws;
+    std::function<void(std::size_t, std::string_view, const BufferRegistry&)> afterLightStep;
+};
+
+// Additive light pass states: no depth test for the quads (stencil EQUAL 1 with the mask).
+PassState lightPassState(const ClassicOptions& o) {
+    PassState p;
+    p.rasterizer.cullMode = CullMode::Back;
+    p.depthStencil.depthEnable = false;
+    p.depthStencil.depthWriteEnable = false;
+    if (o.stencil) {
+        p.depthStencil.stencilEnable = true;
+        const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
+        p.depthStencil.frontFace = equal;
+        p.depthStencil.backFace = equal;
+        p.stencilRef = 1;
+    }
+    p.blend.renderTarget[0] = kAdditiveBlend;
+    return p;
+}
+
+template <class T>
+PrcLight<T> prcLightFrom(const Light& l) {
+    PrcLight<T> p;
+    p.type = l.type;
+    p.position = Vec3<T>(l.positionWorld);
+    p.color = Vec3<T>(l.color * l.intensity);
+    p.direction = Vec3<T>(l.directionWorld);
+    p.range = T(l.range);
+    // SpotlightAngles as cosines: x the inner (full intensity) cone, y the outer.
+    p.cosInner = T(detCos(double(hlsl::radians(l.spotInnerHalfAngleDeg))));
+    p.cosOuter = T(detCos(double(hlsl::radians(l.spotHalfAngleDeg))));
+    return p;
+}
+
+void setQuad(ClassicDraw& d) {
+    d.vertices.clear();
+    for (const glm::vec3& p : gbuffer_detail::kQuadClip) d.vertices.push_back({p});
+    d.indices.assign(gbuffer_detail::kQuadIndices.begin(), gbuffer_detail::kQuadIndices.end());
+    d.clipFromLocal = glm::mat4(1.0f);
+}
+
+std::vector<ClassicDraw> planDraws(const std::vector<Light>& lights, const ClassicOptions& o, const ForwardPassSetup& fwd,
+                                   const Camera& camera) {
+    const LightVolumes volumes;
+    const LightVolumeOptions fit{VolumeFit::Circumscribed, VolumeRotation::Robust};
+    std::vector<ClassicDraw> draws;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        if (!l.enabled || l.type == LightType::Capsule) continue;  // the chapter's lights: point, spot, directional
+        ClassicDraw d;
+        d.index = std::uint32_t(i);
+        d.lightExact = prcLightFrom<float>(l);
+        d.lightReference = prcLightFrom<double>(l);
+        d.pass = lightPassState(o);
+        setQuad(d);
+        const bool local = l.type != LightType::Directional && std::isfinite(l.range);
+        if (local && o.geometry == Geometry::Scissor) {
+            // Listing 11.14 in the left-handed view space the listing assumes (tessera's view is
+            // right-handed: z flipped); the sphere bounds a spot's cone too.
+            const glm::vec3 cRh = glm::vec3(fwd.viewFromWorld * glm::vec4(l.positionWorld, 1.0f));
+            const PrcScissorRect r = prcPointLightScissor({cRh.x, cRh.y, -cRh.z}, l.range, fwd.clipFromView[0][0],
+                                                          fwd.clipFromView[1][1], camera.nearZ, camera.farZ, fwd.width, fwd.height,
+                                                          o.roundOut);
+            d.scissor = true;
+            d.rect = ScissorRect{r.left, r.top, r.right, r.bottom};
+        } else if (local && o.geometry == Geometry::Volumes) {
+            // The volume's bounding sphere (its range; a spot's cone lies inside it) against the
+            // clip planes, in the right-handed view (z < 0 in front of the eye).
+            const float zView = -glm::vec3(fwd.viewFromWorld * glm::vec4(l.positionWorld, 1.0f)).z;  // distance along the view axis
+            const bool crossesNear = zView - l.range < camera.nearZ;
+            const bool crossesFar = zView + l.range > camera.farZ;
+            if (!(crossesNear && crossesFar)) {
+                const VolumeMesh& mesh = volumes.meshFor(l.type);
+                d.vertices.clear();
+                for (const glm::vec3& p : mesh.positions) d.vertices.push_back({p});
+                d.indices = mesh.indices;
+                d.clipFromLocal = fwd.clipFromView * fwd.viewFromWorld * volumes.worldFromObject(l, fit);
+                d.pass.rasterizer.frontCounterClockwise = true;  // the 3dgep meshes: counter-clockwise outside
+                d.pass.depthStencil.depthEnable = true;
+                if (crossesFar) {  // front faces, LESS_EQUAL: occluded light rejected
+                    d.pass.rasterizer.cullMode = CullMode::Back;
+                    d.pass.depthStencil.depthFunc = ComparisonFunc::LessEqual;
+                } else {  // back faces, GREATER_EQUAL: light "floating in air" rejected; the eye may be inside
+                    d.pass.rasterizer.cullMode = CullMode::Front;
+                    d.pass.depthStencil.depthFunc = ComparisonFunc::GreaterEqual;
+                }
+            }
+        }
+        draws.push_back(std::move(d));
+    }
+    return draws;
+}
+
+template <class T>
+void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, Surface& target, DrawStats* stats,
+               std::map<std::string, std::uint64_t>* variantCounts) {
+    const ForwardPassSetup& fwd = *setup.forward;
+    const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
+    Surface& depth = reg.get("depth");
+    for (const ClassicDraw& d : setup.draws) {
+        DrawState st = makeDrawState(d.pass, viewport);
+        st.precision = fwd.precision;
+        if (d.scissor) {
+            st.rasterizer.scissorEnable = true;
+            st.scissor = d.rect;
+        }
+        RenderTargets rt;
+        rt.colors[0] = &target;
+        rt.depthStencil = &depth;
+        ClassicLightPS<T> ps;
+        ps.shared = &setup.shared;
+        if constexpr (std::is_same_v<T, double>) ps.light = &d.lightReference;
+        else ps.light = &d.lightExact;
+        ps.lightIndex = d.index;
+        DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, ps);
+        if (stats) *stats += s;
+        if (variantCounts) ++(*variantCounts)["classic-light"];
+        if (setup.afterLightStep) setup.afterLightStep(d.index, "shade", reg);
+    }
+}
+
+} // namespace
+
+Frame buildDeferredClassic(const TechniqueContext& ctx) {
+    const std::string file = ctx.errorFile();
+    auto setup = std::make_shared<ClassicSetup>();
+    setup->options = parseOptions(ctx, file);
+    const ClassicOptions& opt = setup->options;
+    setup->afterLightStep = ctx.afterLightStep;
+    setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);
+    setup->worldFromView = glm::inverse(setup->forward->viewFromWorld);
+    setup->shared.cameraWorld = glm::vec3(setup->worldFromView[3]);
+    setup->shared.normalizeV = opt.normalizeV;
+    Camera camera = ctx.camera;
+    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, camera);
+
+    const bool reference = ctx.precision == Precision::Reference;
+    const std::string back(kBackBufferName);
+    const std::vector<std::string> gbuffer{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position", "depth"};
+    std::vector<std::string> created = gbuffer;
+    created.push_back(back);
+    if (reference) {
+        created.emplace_back("accumulation");
+        created.emplace_back(kReferenceBufferName);
+    }
+    Frame frame;
+    frame.add({"clear", {}, created, [setup, reference](BufferRegistry& reg) {
+                   const std::uint32_t w = setup->forward->width, h = setup->forward->height;
+                   const glm::vec4 black(0.0f, 0.0f, 0.0f, 1.0f);  // the lights' sum starts from nothing
+                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(black);
+                   for (const char* name : {"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"})
+                       reg.create(name, {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (reference) {
+                       reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
+                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
+                   }
+               }});
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get("gbuffer.normal");
+                   rt.colors[1] = &reg.get("gbuffer.diffuse");
+                   rt.colors[2] = &reg.get("gbuffer.specular");
+                   rt.colors[3] = &reg.get("gbuffer.position");
+                   rt.depthStencil = &reg.get("depth");
+                   PassState pass;
+                   pass.depthStencil.depthFunc = ComparisonFunc::Less;
+                   if (setup->options.stencil) {  // the lit-geometry mask: ALWAYS / REPLACE 1
+                       pass.depthStencil.stencilEnable = true;
+                       const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
+                       pass.depthStencil.frontFace = replace;
+                       pass.depthStencil.backFace = replace;
+                       pass.stencilRef = 1;
+                   }
+                   gbuffer_detail::drawOpaqueGBuffer<ClassicGBufferPS>(
+                       *setup->forward, *device, *res, rt, pass, "classic-gbuffer",
+                       [&](auto& ps) { ps.worldFromView = setup->worldFromView; }, stats, variantCounts);
+               }});
+    const std::string lightTarget = reference ? "accumulation" : back;
+    std::vector<std::string> lightReads = gbuffer;
+    lightReads.push_back(lightTarget);
+    frame.add({"lights", lightReads, {lightTarget}, [setup, device, stats, variantCounts, lightTarget](BufferRegistry& reg) {
+                   ClassicShared& shared = setup->shared;
+                   shared.normal = TargetReader(reg.get("gbuffer.normal"));
+                   shared.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+                   shared.specular = TargetReader(reg.get("gbuffer.specular"));
+                   shared.position = TargetReader(reg.get("gbuffer.position"));
+                   Surface& target = reg.get(lightTarget);
+                   if (setup->forward->precision == Precision::Reference)
+                       runLights<double>(*setup, *device, reg, target, stats, variantCounts);
+                   else runLights<float>(*setup, *device, reg, target, stats, variantCounts);
+               }});
+    if (reference) {
+        frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [](BufferRegistry& reg) {
+                       const Surface& accumulation = reg.get("accumulation");
+                       storeAsUnorm(accumulation, reg.get(kBackBufferName));
+                       storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
+                   }});
+    }
+    frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
+    return frame;
+}
+
+} // namespace tessera
