@@ -105,6 +105,12 @@ std::string caption(std::string_view technique, std::string_view pass) {
                                      "G-buffer and rebuilds its world position from linear depth (Cookbook ch. 2, recipes "
                                      "GBuffer unpacking, Directional/Point/Capsule/Spot light; ERRATA #22-#26)."},
         {"deferred-cookbook/present", "The float accumulation converted to the back buffer (precision reference)."},
+        {"light-prepass/gbuffer", "Two R32G32B32A32_FLOAT targets: world normal with the specular power, world position, "
+                                  "32 bytes a pixel (PR&C D3D11 ch. 11 §11.3, Listing 11.4)."},
+        {"light-prepass/lights", "Each light adds N.L x colour x attenuation and a monochrome specular to the light buffer "
+                                 "(PR&C D3D11 ch. 11 §11.3, Listing 11.5)."},
+        {"light-prepass/final", "The opaque geometry drawn a second time, LESS_EQUAL against its own depth: light buffer "
+                                "x diffuse texel + specular x specular albedo (Listing 11.6)."},
         {"deferred-classic/gbuffer", "Four R32G32B32A32_FLOAT targets: world normal, diffuse albedo, specular albedo and "
                                      "power, world position, 64 bytes a pixel (PR&C D3D11 ch. 11 §11.2, Listing 11.1)."},
         {"deferred-classic/lights", "One additive full-screen pass per light reading the G-buffer at the pixel (PR&C D3D11 "
@@ -124,6 +130,8 @@ std::string differenceNote(std::string_view technique) {
     if (technique == "forward-plus") return "light lists that may overflow (#15) and the cone test (#10); LESS_EQUAL against the pre-pass.";
     if (technique == "forward-plus-amd") return "AMD's own lighting model (falloff, Blinn-Phong power 8; #18) and D3D projection.";
     if (technique == "tiled-deferred") return "Intel's shading (linstep falloff, its G-buffer encoding) and D3D projection.";
+    if (technique == "light-prepass")
+        return "as deferred-classic, and the monochrome specular of its light buffer (the light's colour is lost).";
     if (technique == "deferred-classic")
         return "the chapter's lighting (linear falloff, Blinn-Phong times N.L, no ambient: the background stays black), "
                "the unnormalized V (#27) and D3D projection.";

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <tessera/buffers/conversion.h>
 #include <tessera/buffers/target_reader.h>
 #include <tessera/math/det_math.h>
 #include <tessera/math/prc_gbuffer.h>
@@ -69,8 +70,57 @@ struct ClassicGBufferPS {
     }
 };
 
+// Listing 11.4's PS (light pre-pass): (normalize(NormalWS), SpecularPower), (PositionWS, 1).
+template <bool kDiscard>
+struct LppGBufferPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 2;
+    static constexpr bool kMayDiscard = kDiscard;
+    PhongGatherFn gather = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    glm::mat4 worldFromView{1.0f};
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<2>& out) const {
+        PhongSurface<float> s;
+        if (!gather(*data, in, s)) {
+            out.discard();
+            return;
+        }
+        out.target[0] = glm::vec4(hlsl::normalize(glm::mat3(worldFromView) * glm::vec3(s.normalView)), s.specularPower);
+        out.target[1] = glm::vec4(glm::vec3(worldFromView * glm::vec4(in.varyings.posView, 1.0f)), 1.0f);
+    }
+};
+
+// Listing 11.6's PS, the second geometry pass: the light buffer at the pixel times the material's
+// diffuse texel, plus its monochrome specular times SpecularAlbedo. T = double: the reference
+// mode's arithmetic, written to the back buffer and (clamped) to its float copy.
+template <bool kDiscard, class T>
+struct LppFinalPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = std::is_same_v<T, double> ? 2 : 1;
+    static constexpr bool kMayDiscard = kDiscard;
+    PhongGatherFn gather = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    const TargetReader* lightBuffer = nullptr;
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargetCount>& out) const {
+        PhongSurface<float> s;
+        if (!gather(*data, in, s)) {
+            out.discard();
+            return;
+        }
+        const glm::vec4 lighting = lightBuffer->load(std::uint32_t(in.posWindow.x), std::uint32_t(in.posWindow.y));
+        const Vec3<T> color = prcLightPrePassFinal(Vec4<T>(lighting), Vec3<T>(glm::vec3(s.diffuse)), Vec3<T>(glm::vec3(s.specular)));
+        out.target[0] = glm::vec4(glm::vec3(color), 1.0f);
+        if constexpr (kTargetCount == 2) out.target[1] = convert::clampUnorm(out.target[0]);
+    }
+};
+template <bool kDiscard>
+using LppFinalExactPS = LppFinalPS<kDiscard, float>;
+template <bool kDiscard>
+using LppFinalReferencePS = LppFinalPS<kDiscard, double>;
+
 struct ClassicShared {
-    TargetReader normal, diffuse, specular, position;
+    bool lightPrePass = false;  // light-prepass: Listing 11.5 into the light buffer
+    TargetReader normal, diffuse, specular, position, lightBuffer;
     glm::vec3 cameraWorld{0.0f};
     bool normalizeV = false;
 };
@@ -95,12 +145,21 @@ struct ClassicLightPS {
     void operator()(const PixelInput<NoVaryings>& in, PixelOutput<1>& out) const {
         const ClassicShared& g = *shared;
         const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
-        const Vec3<T> normal(glm::vec3(g.normal.load(x, y)));
-        const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y)));
-        const glm::vec4 spec = g.specular.load(x, y);
+        const glm::vec4 normalStored = g.normal.load(x, y);
+        const Vec3<T> normal{glm::vec3(normalStored)};
         const Vec3<T> position(glm::vec3(g.position.load(x, y)));
-        const Vec3<T> lighting =
-            prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), T(spec.w), Vec3<T>(g.cameraWorld), g.normalizeV);
+        Vec3<T> lighting;
+        if (g.lightPrePass) {  // Listing 11.5: float4(diffuse light, monochrome specular)
+            const Vec4<T> texel = prcLightBufferTexel<T>(*light, normal, T(normalStored.w), position, Vec3<T>(g.cameraWorld), g.normalizeV);
+            lighting = Vec3<T>(texel);
+            out.target[0] = glm::vec4(texel);
+        } else {
+            const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y)));
+            const glm::vec4 spec = g.specular.load(x, y);
+            lighting = prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), T(spec.w), Vec3<T>(g.cameraWorld),
+                                             g.normalizeV);
+            out.target[0] = glm::vec4(glm::vec3(lighting), 1.0f);
+        }
         if (std::vector<LightTerm>* trace = watchedLightTerms()) [[unlikely]] {
             LightTerm term;
             term.light = lightIndex;
@@ -115,7 +174,6 @@ struct ClassicLightPS {
             term.diffuse = glm::vec4(glm::vec3(lighting), 0.0f);
             trace->push_back(term);
         }
-        out.target[0] = glm::vec4(glm::vec3(lighting), 1.0f);
     }
 };
 
@@ -259,9 +317,8 @@ void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, S
     }
 }
 
-} // namespace
-
-Frame buildDeferredClassic(const TechniqueContext& ctx) {
+// Classic (§11.2) or light pre-pass (§11.3): the same options, light planning and light draws.
+Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     const std::string file = ctx.errorFile();
     auto setup = std::make_shared<ClassicSetup>();
     setup->options = parseOptions(ctx, file);
@@ -271,41 +328,49 @@ Frame buildDeferredClassic(const TechniqueContext& ctx) {
     setup->worldFromView = glm::inverse(setup->forward->viewFromWorld);
     setup->shared.cameraWorld = glm::vec3(setup->worldFromView[3]);
     setup->shared.normalizeV = opt.normalizeV;
-    Camera camera = ctx.camera;
-    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, camera);
+    setup->shared.lightPrePass = lightPrePass;
+    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera);
 
     const bool reference = ctx.precision == Precision::Reference;
     const std::string back(kBackBufferName);
-    const std::vector<std::string> gbuffer{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position", "depth"};
+    // Classic: Listing 11.1's four targets; light pre-pass: Listing 11.4's two (normal + power, position).
+    const std::vector<std::string> targets = lightPrePass ? std::vector<std::string>{"gbuffer.normal", "gbuffer.position"}
+                                                          : std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse",
+                                                                                     "gbuffer.specular", "gbuffer.position"};
+    std::vector<std::string> gbuffer = targets;
+    gbuffer.emplace_back("depth");
     std::vector<std::string> created = gbuffer;
     created.push_back(back);
-    if (reference) {
-        created.emplace_back("accumulation");
-        created.emplace_back(kReferenceBufferName);
-    }
+    if (lightPrePass) created.emplace_back("lightbuffer");
+    const bool accumulation = reference && !lightPrePass;
+    if (accumulation) created.emplace_back("accumulation");
+    if (reference) created.emplace_back(kReferenceBufferName);
     Frame frame;
-    frame.add({"clear", {}, created, [setup, reference](BufferRegistry& reg) {
+    frame.add({"clear", {}, created, [setup, targets, reference, accumulation, lightPrePass](BufferRegistry& reg) {
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
                    const glm::vec4 black(0.0f, 0.0f, 0.0f, 1.0f);  // the lights' sum starts from nothing
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(black);
-                   for (const char* name : {"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"})
+                   for (const std::string& name : targets)
                        reg.create(name, {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
-                   if (reference) {
-                       reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
-                   }
+                   if (lightPrePass) reg.create("lightbuffer", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                   if (accumulation) reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
+                   if (reference) reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
                }});
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res, lightPrePass](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.normal");
-                   rt.colors[1] = &reg.get("gbuffer.diffuse");
-                   rt.colors[2] = &reg.get("gbuffer.specular");
-                   rt.colors[3] = &reg.get("gbuffer.position");
+                   if (lightPrePass) {
+                       rt.colors[1] = &reg.get("gbuffer.position");
+                   } else {
+                       rt.colors[1] = &reg.get("gbuffer.diffuse");
+                       rt.colors[2] = &reg.get("gbuffer.specular");
+                       rt.colors[3] = &reg.get("gbuffer.position");
+                   }
                    rt.depthStencil = &reg.get("depth");
                    PassState pass;
                    pass.depthStencil.depthFunc = ComparisonFunc::Less;
@@ -316,33 +381,66 @@ Frame buildDeferredClassic(const TechniqueContext& ctx) {
                        pass.depthStencil.backFace = replace;
                        pass.stencilRef = 1;
                    }
-                   gbuffer_detail::drawOpaqueGBuffer<ClassicGBufferPS>(
-                       *setup->forward, *device, *res, rt, pass, "classic-gbuffer",
-                       [&](auto& ps) { ps.worldFromView = setup->worldFromView; }, stats, variantCounts);
+                   const auto configure = [&](auto& ps) { ps.worldFromView = setup->worldFromView; };
+                   if (lightPrePass)
+                       gbuffer_detail::drawOpaqueGBuffer<LppGBufferPS>(*setup->forward, *device, *res, rt, pass, "lpp-gbuffer",
+                                                                       configure, stats, variantCounts);
+                   else
+                       gbuffer_detail::drawOpaqueGBuffer<ClassicGBufferPS>(*setup->forward, *device, *res, rt, pass,
+                                                                           "classic-gbuffer", configure, stats, variantCounts);
                }});
-    const std::string lightTarget = reference ? "accumulation" : back;
+    const std::string lightTarget = lightPrePass ? "lightbuffer" : accumulation ? "accumulation" : back;
     std::vector<std::string> lightReads = gbuffer;
     lightReads.push_back(lightTarget);
-    frame.add({"lights", lightReads, {lightTarget}, [setup, device, stats, variantCounts, lightTarget](BufferRegistry& reg) {
+    frame.add({"lights", lightReads, {lightTarget}, [setup, device, stats, variantCounts, lightTarget, lightPrePass](BufferRegistry& reg) {
                    ClassicShared& shared = setup->shared;
                    shared.normal = TargetReader(reg.get("gbuffer.normal"));
-                   shared.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
-                   shared.specular = TargetReader(reg.get("gbuffer.specular"));
                    shared.position = TargetReader(reg.get("gbuffer.position"));
+                   if (!lightPrePass) {
+                       shared.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+                       shared.specular = TargetReader(reg.get("gbuffer.specular"));
+                   }
                    Surface& target = reg.get(lightTarget);
                    if (setup->forward->precision == Precision::Reference)
                        runLights<double>(*setup, *device, reg, target, stats, variantCounts);
                    else runLights<float>(*setup, *device, reg, target, stats, variantCounts);
                }});
-    if (reference) {
+    if (lightPrePass) {
+        // The second geometry pass (§11.3): the opaque geometry again, LESS_EQUAL against its own
+        // depth without writes, each pixel reading the light buffer.
+        frame.add({"final", withReferenceBuffer({back, "lightbuffer", "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
+                   [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
+                       RenderTargets rt;
+                       rt.colors[0] = &reg.get(kBackBufferName);
+                       if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+                       rt.depthStencil = &reg.get("depth");
+                       PassState pass;
+                       pass.depthStencil.depthFunc = ComparisonFunc::LessEqual;
+                       pass.depthStencil.depthWriteEnable = false;
+                       const TargetReader lightBuffer(reg.get("lightbuffer"));
+                       const auto configure = [&](auto& ps) { ps.lightBuffer = &lightBuffer; };
+                       if (reference)
+                           gbuffer_detail::drawOpaqueGBuffer<LppFinalReferencePS>(*setup->forward, *device, *res, rt, pass,
+                                                                                  "lpp-final", configure, stats, variantCounts);
+                       else
+                           gbuffer_detail::drawOpaqueGBuffer<LppFinalExactPS>(*setup->forward, *device, *res, rt, pass, "lpp-final",
+                                                                              configure, stats, variantCounts);
+                   }});
+    } else if (reference) {
         frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [](BufferRegistry& reg) {
-                       const Surface& accumulation = reg.get("accumulation");
-                       storeAsUnorm(accumulation, reg.get(kBackBufferName));
-                       storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
+                       const Surface& sum = reg.get("accumulation");
+                       storeAsUnorm(sum, reg.get(kBackBufferName));
+                       storeAsUnorm(sum, reg.get(kReferenceBufferName));
                    }});
     }
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;
 }
+
+} // namespace
+
+Frame buildDeferredClassic(const TechniqueContext& ctx) { return buildFrame(ctx, false); }
+
+Frame buildLightPrePass(const TechniqueContext& ctx) { return buildFrame(ctx, true); }
 
 } // namespace tessera

@@ -170,14 +170,15 @@ struct TechniqueOptions {
     std::span<const OptionInfo> options;
 };
 
-constexpr std::array<TechniqueOptions, 8> kCatalog{{{"forward", kForward},
+constexpr std::array<TechniqueOptions, 9> kCatalog{{{"forward", kForward},
                                                     {"deferred", kDeferred},
                                                     {"deferred-killzone", kKillzone},
                                                     {"forward-plus", kForwardPlus},
                                                     {"forward-plus-amd", kForwardPlusAmd},
                                                     {"tiled-deferred", kTiledDeferred},
                                                     {"deferred-cookbook", kDeferredCookbook},
-                                                    {"deferred-classic", kDeferredClassic}}};
+                                                    {"deferred-classic", kDeferredClassic},
+                                                    {"light-prepass", kDeferredClassic}}};
 
 bool listed(const OptionInfo& option, std::string_view text) {
     for (const std::string_view v : option.values)

@@ -42,7 +42,9 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      TexturePolicy::AllLinear},
     {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
      "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear},
-    {"light-prepass", "light pre-pass (deferred lighting)", "PR&C D3D11 ch. 11", nullptr, kNoOptions},
+    {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
+     "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kDeferredClassicOptionKeys,
+     TexturePolicy::AllLinear},
 }};
 
 } // namespace

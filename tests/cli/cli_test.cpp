@@ -127,7 +127,7 @@ TEST_CASE("cli: options lists every technique's options, and render --option is 
     INFO(all.output);
     CHECK(all.exitCode == 0);
     for (const char* line : {"forward-plus\n", "  coneTest          demo | corrected", "ERRATA.md #10", "tileListCapacity",
-                             "integer >= 1 | unbounded", "preview: no options", "light-prepass (planned)", "specPowerUnpack"})
+                             "integer >= 1 | unbounded", "preview: no options", "light-prepass", "specPowerUnpack", "scissorRound"})
         CHECK_MESSAGE(all.output.find(line) != std::string::npos, line);
     const Run one = run("options deferred");
     CHECK(one.exitCode == 0);
@@ -176,7 +176,7 @@ TEST_CASE("cli: --help for every subcommand exits 0") {
 TEST_CASE("cli: list names every technique with its state and the bundled scenes") {
     const Run r = run("list");
     CHECK(r.exitCode == 0);
-    for (const char* id : {"preview ", "forward ", "deferred ", "forward-plus ", "ready", "planned", "default ", "sponza-large-lights",
+    for (const char* id : {"preview ", "forward ", "deferred ", "forward-plus ", "deferred-classic ", "light-prepass ", "ready", "default ", "sponza-large-lights",
                            "sponza-small-lights", "builtin"})
         CHECK_MESSAGE(r.output.find(id) != std::string::npos, id);
 }
@@ -232,9 +232,9 @@ TEST_CASE("cli: bad scene input exits 2, names the file and key, and writes noth
     CHECK(missing.exitCode == 2);
     CHECK(missing.output.find("no-such-scene: no such file") != std::string::npos);
     std::filesystem::remove(dir / "x.png");  // a previous run's, if any
-    const Run planned = run("render default --technique light-prepass --out " + (dir / "x.png").string());
-    CHECK(planned.exitCode == 2);
-    CHECK(planned.output.find("not implemented yet") != std::string::npos);
+    const Run badOption = run("render default --technique light-prepass --option lightGeometry=cones --out " + (dir / "x.png").string());
+    CHECK(badOption.exitCode == 2);
+    CHECK(badOption.output.find("lightGeometry") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir / "x.png"));
 }
 

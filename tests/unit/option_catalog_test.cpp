@@ -95,7 +95,7 @@ TEST_CASE("option catalogue: every implemented technique's keys, values, default
             }
         }
     }
-    CHECK(techniquesChecked == 9);   // preview (no options) and the eight techniques with options
+    CHECK(techniquesChecked == 10);  // preview (no options) and the nine techniques with options
     CHECK(valuesChecked >= 90);      // 94 listed values today: the loop really ran over them
 }
 

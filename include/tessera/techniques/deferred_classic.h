@@ -39,4 +39,14 @@ inline constexpr std::array<std::string_view, 6> kDeferredClassicOptionKeys{"lig
 // light for --dump-lights), [present], transparent.
 Frame buildDeferredClassic(const TechniqueContext& context);
 
+// The `light-prepass` technique (PR&C D3D11 ch. 11 §11.3, after Engel 2009): a 32 B/px G-buffer
+// ("gbuffer.normal" = (world N, specular power), "gbuffer.position" = (world P, 1), Listing 11.4),
+// the lights summed into "lightbuffer" R32G32B32A32_FLOAT (Listing 11.5: N.L x colour x
+// attenuation in RGB, the monochrome specular without the light's colour in A), then the opaque
+// geometry drawn a second time ("final", LESS_EQUAL, Listing 11.6: light.rgb x diffuse texel +
+// light.a x SpecularAlbedo). The same options and light geometries as deferred-classic. The
+// monochrome specular is the technique's known approximation: equal to deferred-classic's image
+// (within float summation order) under white lights, different under coloured ones (tested).
+Frame buildLightPrePass(const TechniqueContext& context);
+
 } // namespace tessera
