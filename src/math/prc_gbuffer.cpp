@@ -12,6 +12,11 @@ glm::vec2 prcSpheremapEncode(const glm::vec3& n) {
     return dir * std::sqrt(-n.z * 0.5f + 0.5f);
 }
 
+glm::vec2 prcSpheremapEncodeSafe(const glm::vec3& n) {
+    if (n.x == 0.0f && n.y == 0.0f) return n.z < 0.0f ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f);
+    return prcSpheremapEncode(n);
+}
+
 glm::vec3 prcSpheremapDecode(const glm::vec2& e) {
     glm::vec4 nn(e.x, e.y, 1.0f, -1.0f);
     const float l = (nn.x * -nn.x + nn.y * -nn.y) + nn.z * -nn.w;  // dot(nn.xyz, -nn.xyw)
@@ -20,6 +25,12 @@ glm::vec3 prcSpheremapDecode(const glm::vec2& e) {
     nn.x *= s;
     nn.y *= s;
     return glm::vec3(nn) * 2.0f + glm::vec3(0.0f, 0.0f, -1.0f);
+}
+
+glm::vec3 prcSpheremapDecodeSafe(const glm::vec2& e) {
+    const float l = std::max(0.0f, (e.x * -e.x + e.y * -e.y) + 1.0f);
+    const float s = std::sqrt(l);
+    return glm::vec3(e.x * s, e.y * s, l) * 2.0f + glm::vec3(0.0f, 0.0f, -1.0f);
 }
 
 glm::vec3 prcNormalFromXy(const glm::vec2& xy, bool positiveZ) {

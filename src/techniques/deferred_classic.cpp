@@ -29,6 +29,8 @@ struct ClassicOptions {
     bool normalizeV = false;
     bool roundOut = false;
     bool stencil = false;
+    bool optimized = false;     // gbuffer optimized (deferred-classic only)
+    bool safeNormals = false;   // normalEncoding safe
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
 };
@@ -41,6 +43,8 @@ ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file
     o.normalizeV = optionEnum(j, "viewVector", {"printed", "normalized"}, "printed", file) == "normalized";
     o.roundOut = optionEnum(j, "scissorRound", {"truncate", "out"}, "truncate", file) == "out";
     o.stencil = optionBool(j, "stencil", false, file);
+    o.optimized = optionEnum(j, "gbuffer", {"plain", "optimized"}, "plain", file) == "optimized";
+    o.safeNormals = optionEnum(j, "normalEncoding", {"printed", "safe"}, "printed", file) == "safe";
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
     return o;
@@ -67,6 +71,33 @@ struct ClassicGBufferPS {
         out.target[1] = glm::vec4(glm::vec3(s.diffuse), 1.0f);
         out.target[2] = glm::vec4(glm::vec3(s.specular), s.specularPower);
         out.target[3] = glm::vec4(glm::vec3(worldFromView * glm::vec4(in.varyings.posView, 1.0f)), 1.0f);
+    }
+};
+
+// The optimized layout (§11.4.1, the chapter's companion code): RT0 R16G16_SNORM the view-space
+// normal (left-handed) through Listing 11.8's sphere map, RT1 R10G10B10A2_UNORM the diffuse albedo,
+// RT2 R8G8B8A8_UNORM the specular albedo with the power / 255 in alpha; the position comes from
+// the depth buffer. 16 B/px with depth.
+template <bool kDiscard>
+struct OptimizedGBufferPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 3;
+    static constexpr bool kMayDiscard = kDiscard;
+    PhongGatherFn gather = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    bool safeNormals = false;
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<3>& out) const {
+        PhongSurface<float> s;
+        if (!gather(*data, in, s)) {
+            out.discard();
+            return;
+        }
+        const glm::vec3 nRh = hlsl::normalize(glm::vec3(s.normalView));
+        const glm::vec3 nLh(nRh.x, nRh.y, -nRh.z);
+        const glm::vec2 e = safeNormals ? prcSpheremapEncodeSafe(nLh) : prcSpheremapEncode(nLh);
+        out.target[0] = glm::vec4(e, 0.0f, 0.0f);
+        out.target[1] = glm::vec4(glm::vec3(s.diffuse), 1.0f);
+        out.target[2] = glm::vec4(glm::vec3(s.specular), s.specularPower / 255.0f);
     }
 };
 
@@ -120,6 +151,13 @@ using LppFinalReferencePS = LppFinalPS<kDiscard, double>;
 
 struct ClassicShared {
     bool lightPrePass = false;  // light-prepass: Listing 11.5 into the light buffer
+    bool optimized = false;     // the optimized layout: decode RT0, position from depth
+    bool safeNormals = false;   // normalEncoding safe: the decode clamps 1 - |e|^2 at 0
+    const Surface* depth = nullptr;
+    PrcProjectionAB ab;
+    float proj00 = 1.0f, proj11 = 1.0f;
+    glm::vec2 screenPx{1.0f};
+    glm::mat4 worldFromViewLh{1.0f};
     TargetReader normal, diffuse, specular, position, lightBuffer;
     glm::vec3 cameraWorld{0.0f};
     bool normalizeV = false;
@@ -146,8 +184,21 @@ struct ClassicLightPS {
         const ClassicShared& g = *shared;
         const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
         const glm::vec4 normalStored = g.normal.load(x, y);
-        const Vec3<T> normal{glm::vec3(normalStored)};
-        const Vec3<T> position(glm::vec3(g.position.load(x, y)));
+        Vec3<T> normal{glm::vec3(normalStored)};
+        Vec3<T> position;
+        if (g.optimized) {
+            // SpheremapDecode, then the left-handed view normal to world; the position from the
+            // hardware depth (Listing 11.12: ProjectionB / (depth - ProjectionA) along the pixel's
+            // view ray (x_ndc / P00, y_ndc / P11, 1)).
+            const glm::vec2 e(normalStored);
+            normal = Vec3<T>(glm::mat3(g.worldFromViewLh) * (g.safeNormals ? prcSpheremapDecodeSafe(e) : prcSpheremapDecode(e)));
+            const float linearDepth = prcLinearDepth(g.depth->loadDepth(x, y), g.ab);
+            const glm::vec2 ndc(in.posWindow.x / g.screenPx.x * 2.0f - 1.0f, 1.0f - in.posWindow.y / g.screenPx.y * 2.0f);
+            const glm::vec3 viewRay(ndc.x / g.proj00, ndc.y / g.proj11, 1.0f);
+            position = Vec3<T>(glm::vec3(g.worldFromViewLh * glm::vec4(viewRay * linearDepth, 1.0f)));
+        } else {
+            position = Vec3<T>(glm::vec3(g.position.load(x, y)));
+        }
         Vec3<T> lighting;
         if (g.lightPrePass) {  // Listing 11.5: float4(diffuse light, monochrome specular)
             const Vec4<T> texel = prcLightBufferTexel<T>(*light, normal, T(normalStored.w), position, Vec3<T>(g.cameraWorld), g.normalizeV);
@@ -156,7 +207,8 @@ struct ClassicLightPS {
         } else {
             const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y)));
             const glm::vec4 spec = g.specular.load(x, y);
-            lighting = prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), T(spec.w), Vec3<T>(g.cameraWorld),
+            const T power = g.optimized ? T(spec.w * 255.0f) : T(spec.w);
+            lighting = prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), power, Vec3<T>(g.cameraWorld),
                                              g.normalizeV);
             out.target[0] = glm::vec4(glm::vec3(lighting), 1.0f);
         }
@@ -329,14 +381,26 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     setup->shared.cameraWorld = glm::vec3(setup->worldFromView[3]);
     setup->shared.normalizeV = opt.normalizeV;
     setup->shared.lightPrePass = lightPrePass;
+    const bool optimized = opt.optimized && !lightPrePass;
+    setup->shared.optimized = optimized;
+    setup->shared.safeNormals = opt.safeNormals;
+    {
+        const glm::mat4 flipZ = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.0f, -1.0f));
+        setup->shared.worldFromViewLh = glm::inverse(flipZ * setup->forward->viewFromWorld);
+        setup->shared.ab = prcProjectionAB(ctx.camera.nearZ, ctx.camera.farZ);
+        setup->shared.proj00 = setup->forward->clipFromView[0][0];
+        setup->shared.proj11 = setup->forward->clipFromView[1][1];
+        setup->shared.screenPx = glm::vec2(float(ctx.width), float(ctx.height));
+    }
     setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera);
 
     const bool reference = ctx.precision == Precision::Reference;
     const std::string back(kBackBufferName);
     // Classic: Listing 11.1's four targets; light pre-pass: Listing 11.4's two (normal + power, position).
-    const std::vector<std::string> targets = lightPrePass ? std::vector<std::string>{"gbuffer.normal", "gbuffer.position"}
-                                                          : std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse",
-                                                                                     "gbuffer.specular", "gbuffer.position"};
+    const std::vector<std::string> targets =
+        lightPrePass ? std::vector<std::string>{"gbuffer.normal", "gbuffer.position"}
+        : optimized  ? std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular"}
+                     : std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"};
     std::vector<std::string> gbuffer = targets;
     gbuffer.emplace_back("depth");
     std::vector<std::string> created = gbuffer;
@@ -346,12 +410,14 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     if (accumulation) created.emplace_back("accumulation");
     if (reference) created.emplace_back(kReferenceBufferName);
     Frame frame;
-    frame.add({"clear", {}, created, [setup, targets, reference, accumulation, lightPrePass](BufferRegistry& reg) {
+    frame.add({"clear", {}, created, [setup, targets, reference, accumulation, lightPrePass, optimized](BufferRegistry& reg) {
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
                    const glm::vec4 black(0.0f, 0.0f, 0.0f, 1.0f);  // the lights' sum starts from nothing
                    reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(black);
-                   for (const std::string& name : targets)
-                       reg.create(name, {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                   const Format optimizedFormats[] = {Format::R16G16_SNORM, Format::R10G10B10A2_UNORM, Format::R8G8B8A8_UNORM};
+                   for (std::size_t k = 0; k < targets.size(); ++k)
+                       reg.create(targets[k], {w, h, optimized ? optimizedFormats[k] : Format::R32G32B32A32_FLOAT, 1})
+                           .clearColor(glm::vec4(0.0f));
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
                    if (lightPrePass) reg.create("lightbuffer", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
                    if (accumulation) reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
@@ -361,7 +427,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res, lightPrePass](BufferRegistry& reg) {
+    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res, lightPrePass, optimized](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.normal");
                    if (lightPrePass) {
@@ -369,7 +435,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    } else {
                        rt.colors[1] = &reg.get("gbuffer.diffuse");
                        rt.colors[2] = &reg.get("gbuffer.specular");
-                       rt.colors[3] = &reg.get("gbuffer.position");
+                       if (!optimized) rt.colors[3] = &reg.get("gbuffer.position");
                    }
                    rt.depthStencil = &reg.get("depth");
                    PassState pass;
@@ -385,6 +451,10 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    if (lightPrePass)
                        gbuffer_detail::drawOpaqueGBuffer<LppGBufferPS>(*setup->forward, *device, *res, rt, pass, "lpp-gbuffer",
                                                                        configure, stats, variantCounts);
+                   else if (optimized)
+                       gbuffer_detail::drawOpaqueGBuffer<OptimizedGBufferPS>(
+                           *setup->forward, *device, *res, rt, pass, "classic-gbuffer-optimized",
+                           [&](auto& ps) { ps.safeNormals = setup->options.safeNormals; }, stats, variantCounts);
                    else
                        gbuffer_detail::drawOpaqueGBuffer<ClassicGBufferPS>(*setup->forward, *device, *res, rt, pass,
                                                                            "classic-gbuffer", configure, stats, variantCounts);
@@ -395,7 +465,8 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     frame.add({"lights", lightReads, {lightTarget}, [setup, device, stats, variantCounts, lightTarget, lightPrePass](BufferRegistry& reg) {
                    ClassicShared& shared = setup->shared;
                    shared.normal = TargetReader(reg.get("gbuffer.normal"));
-                   shared.position = TargetReader(reg.get("gbuffer.position"));
+                   if (shared.optimized) shared.depth = &reg.get("depth");
+                   else shared.position = TargetReader(reg.get("gbuffer.position"));
                    if (!lightPrePass) {
                        shared.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
                        shared.specular = TargetReader(reg.get("gbuffer.specular"));

@@ -41,6 +41,8 @@ constexpr std::array<std::string_view, 2> kLightGeometry{"volumes", "quads"};
 constexpr std::array<std::string_view, 3> kClassicGeometry{"quads", "scissor", "volumes"};
 constexpr std::array<std::string_view, 2> kViewVector{"printed", "normalized"};
 constexpr std::array<std::string_view, 2> kScissorRound{"truncate", "out"};
+constexpr std::array<std::string_view, 2> kClassicGBuffer{"plain", "optimized"};
+constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
 constexpr std::array<std::string_view, 0> kNone{};
 
 constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
@@ -74,17 +76,30 @@ constexpr std::array<OptionInfo, 9> kDeferredCookbook{
     kSamplerOption,
     kAlphaTestOption};
 
-constexpr std::array<OptionInfo, 6> kDeferredClassic{
-    OptionInfo{"lightGeometry", Kind::Word, kClassicGeometry, -1, "quads", "", 0,
-               "a full-screen quad per light (§11.2), the quad cut by the light's scissor rectangle, or its volume (§11.4.2)"},
-    OptionInfo{"viewVector", Kind::Word, kViewVector, -1, "printed", "normalized", 27,
-               "Listing 11.3's unnormalized V in H = normalize(L + V), or Eq. 11.1's unit V"},
-    OptionInfo{"scissorRound", Kind::Word, kScissorRound, -1, "truncate", "out", 28,
-               "Listing 11.14 truncates the rectangle's right and bottom edges, or rounds them up"},
-    OptionInfo{"stencil", Kind::Bool, kBool, -1, "false", "", 0,
-               "the stencil mask of lit geometry (G-buffer REPLACE 1, lights EQUAL 1)"},
+constexpr OptionInfo kClassicGeometryOption{"lightGeometry", Kind::Word, kClassicGeometry, -1, "quads", "", 0,
+                                            "a full-screen quad per light (§11.2), the quad cut by the light's scissor "
+                                            "rectangle, or its volume (§11.4.2)"};
+constexpr OptionInfo kViewVectorOption{"viewVector", Kind::Word, kViewVector, -1, "printed", "normalized", 27,
+                                       "Listing 11.3's unnormalized V in H = normalize(L + V), or Eq. 11.1's unit V"};
+constexpr OptionInfo kScissorRoundOption{"scissorRound", Kind::Word, kScissorRound, -1, "truncate", "out", 28,
+                                         "Listing 11.14 truncates the rectangle's right and bottom edges, or rounds them up"};
+constexpr OptionInfo kStencilMaskOption{"stencil", Kind::Bool, kBool, -1, "false", "", 0,
+                                        "the stencil mask of lit geometry (G-buffer REPLACE 1, lights EQUAL 1)"};
+
+constexpr std::array<OptionInfo, 8> kDeferredClassic{
+    kClassicGeometryOption,
+    kViewVectorOption,
+    kScissorRoundOption,
+    kStencilMaskOption,
+    OptionInfo{"gbuffer", Kind::Word, kClassicGBuffer, -1, "plain", "", 0,
+               "Listing 11.1's four RGBA32F targets (64 B/px), or the optimized 16 B/px layout with position from depth"},
+    OptionInfo{"normalEncoding", Kind::Word, kNormalEncoding, -1, "printed", "safe", 29,
+               "Listing 11.8's sphere map (NaN at and near the camera-facing pole: black pixels), or a codec defined there"},
     kSamplerOption,
     kAlphaTestOption};
+
+constexpr std::array<OptionInfo, 6> kLightPrePass{kClassicGeometryOption, kViewVectorOption, kScissorRoundOption,
+                                                  kStencilMaskOption,     kSamplerOption,    kAlphaTestOption};
 
 constexpr std::array<OptionInfo, 9> kDeferred{
     kProjectionOption,
@@ -178,7 +193,7 @@ constexpr std::array<TechniqueOptions, 9> kCatalog{{{"forward", kForward},
                                                     {"tiled-deferred", kTiledDeferred},
                                                     {"deferred-cookbook", kDeferredCookbook},
                                                     {"deferred-classic", kDeferredClassic},
-                                                    {"light-prepass", kDeferredClassic}}};
+                                                    {"light-prepass", kLightPrePass}}};
 
 bool listed(const OptionInfo& option, std::string_view text) {
     for (const std::string_view v : option.values)

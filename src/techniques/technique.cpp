@@ -43,7 +43,7 @@ const std::array<TechniqueInfo, 10> kTechniques{{
     {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
      "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear},
     {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
-     "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kDeferredClassicOptionKeys,
+     "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kLightPrePassOptionKeys,
      TexturePolicy::AllLinear},
 }};
 

@@ -9,6 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "tessera/buffers/surface.h"
 #include "tessera/math/prc_gbuffer.h"
 #include "tessera/shading/prc_lighting.h"
 
@@ -43,6 +44,40 @@ TEST_CASE("prc gbuffer: the sphere-map codec of Listing 11.8, worked values, rou
         CHECK(std::isnan(e.x));
         CHECK(std::isnan(prcSpheremapDecode(e).z));
     }
+}
+
+TEST_CASE("prc gbuffer: at the poles the printed encoder's NaN, stored to R16G16_SNORM, decodes as +z: a head-on normal comes back facing away (ERRATA #29)") {
+    Surface snorm({1, 1, Format::R16G16_SNORM, 1});
+    const auto storeAndDecode = [&](glm::vec2 e) {
+        snorm.store(0, 0, 0, glm::vec4(e, 0.0f, 0.0f));  // D3D11.3 §3.2.3.6: NaN -> 0
+        return prcSpheremapDecode(glm::vec2(snorm.load(0, 0)));
+    };
+    // The camera looks down +z (left-handed view): a surface facing it has n = (0, 0, -1).
+    const glm::vec3 printed = storeAndDecode(prcSpheremapEncode({0.0f, 0.0f, -1.0f}));
+    CHECK(printed.z == 1.0f);  // flipped
+    const glm::vec3 safe = storeAndDecode(prcSpheremapEncodeSafe({0.0f, 0.0f, -1.0f}));
+    CHECK(safe.x == 0.0f);
+    CHECK(safe.y == 0.0f);
+    CHECK(safe.z == -1.0f);
+    CHECK(storeAndDecode(prcSpheremapEncodeSafe({0.0f, 0.0f, 1.0f})).z == 1.0f);
+    // Near the pole: |e| rounds to 16-bit SNORM codes whose |e|^2 exceeds 1, and the printed decode
+    // takes sqrt of a negative number. Search the normals at 1e-4..1e-3 from -z for one.
+    int nanPrinted = 0, nanSafe = 0;
+    for (int i = 1; i <= 200; ++i) {
+        const float t = float(i) * 5e-6f;
+        const glm::vec3 m = glm::normalize(glm::vec3(t * 0.4f, t * 0.9f, -1.0f));
+        snorm.store(0, 0, 0, glm::vec4(prcSpheremapEncode(m), 0.0f, 0.0f));
+        const glm::vec2 code(snorm.load(0, 0));
+        nanPrinted += std::isnan(prcSpheremapDecode(code).x) ? 1 : 0;
+        const glm::vec3 d = prcSpheremapDecodeSafe(code);
+        nanSafe += std::isnan(d.x) ? 1 : 0;
+        CHECK(glm::dot(d, m) > 0.999f);  // the safe decode stays next to the true normal
+    }
+    CHECK(nanPrinted > 0);
+    CHECK(nanSafe == 0);
+    // Away from the poles the two encoders agree bit for bit.
+    const glm::vec3 n = glm::normalize(glm::vec3(0.3f, -0.2f, -0.9f));
+    CHECK(prcSpheremapEncodeSafe(n) == prcSpheremapEncode(n));
 }
 
 TEST_CASE("prc gbuffer: Eq. 11.3 rebuilds z with the stored sign, and view-space normals do face +z (Fig. 11.5)") {

@@ -17,6 +17,15 @@ namespace tessera {
 // (|e|^2 = (1 - n.z) / 2). n = (0, 0, +-1) normalizes (0, 0): NaN (as the HLSL would; the
 // chapter does not handle it, tests/unit/prc_gbuffer_test.cpp shows it).
 glm::vec2 prcSpheremapEncode(const glm::vec3& normal);
+// The same encoding defined at the poles (ERRATA #29): n.xy = 0 encodes as (0, 0) for z > 0 and
+// (1, 0) for z < 0 (|e| = 1 is the whole circle for z = -1; any point on it decodes to (0, 0, -1)).
+// The listing's NaN stored to SNORM becomes 0, which decodes as (0, 0, +1): a normal facing the
+// camera head-on comes back facing away.
+glm::vec2 prcSpheremapEncodeSafe(const glm::vec3& normal);
+// SpheremapDecode with l = 1 - |e|^2 clamped to >= 0 (ERRATA #29): near z = -1 (in the chapter's
+// left-handed view space, a surface facing the camera) |e| -> 1, and rounding the code to a 16-bit
+// SNORM can push |e|^2 past 1, where the listing's sqrt(l) is NaN and the pixel goes black.
+glm::vec3 prcSpheremapDecodeSafe(const glm::vec2& encoded);
 // SpheremapDecode: nn = (e, 1, -1); l = dot(nn.xyz, -nn.xyw) = 1 - dot(e, e); nn.z = l;
 // nn.xy *= sqrt(l); return nn.xyz * 2 + (0, 0, -1).
 glm::vec3 prcSpheremapDecode(const glm::vec2& encoded);

@@ -27,9 +27,20 @@ namespace tessera {
 //       out: rounded up.
 //   "stencil": false | true   §11.4.2's stencil mask: the G-buffer pass writes 1 under geometry
 //       (ALWAYS / REPLACE) and the light passes test EQUAL 1 (sky pixels skip the shader).
+//   "gbuffer": "plain" | "optimized"   plain: Listing 11.1's four RGBA32F targets (64 B/px);
+//       optimized (§11.4.1, the companion code's layout): R16G16_SNORM sphere-mapped view-space
+//       normal, R10G10B10A2_UNORM diffuse, R8G8B8A8_UNORM specular albedo + power / 255, the
+//       position from depth (Listing 11.12), 16 B/px with depth. deferred-classic only.
+//   "normalEncoding": "printed" | "safe"   with gbuffer optimized: Listing 11.8's codec, whose
+//       encoder is NaN at n = (0, 0, +-1) (stored as 0, decoded as +z: a head-on normal faces away)
+//       and whose decoder takes sqrt(1 - |e|^2) of SNORM codes that can round past |e| = 1 near
+//       z = -1, facing the camera: NaN, a black pixel (ERRATA #29); or the codec defined there.
 //   "sampler", "alphaTest": as forward (the transparent pass).
-inline constexpr std::array<std::string_view, 6> kDeferredClassicOptionKeys{"lightGeometry", "viewVector", "scissorRound",
-                                                                            "stencil",       "sampler",    "alphaTest"};
+inline constexpr std::array<std::string_view, 8> kDeferredClassicOptionKeys{
+    "lightGeometry", "viewVector", "scissorRound", "stencil", "gbuffer", "normalEncoding", "sampler", "alphaTest"};
+// light-prepass: the same without "gbuffer" and "normalEncoding".
+inline constexpr std::array<std::string_view, 6> kLightPrePassOptionKeys{"lightGeometry", "viewVector", "scissorRound",
+                                                                         "stencil",       "sampler",    "alphaTest"};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
 // ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"
