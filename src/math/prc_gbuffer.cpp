@@ -44,6 +44,21 @@ PrcProjectionAB prcProjectionAB(float nearZ, float farZ) {
 
 float prcLinearDepth(float depth, const PrcProjectionAB& ab) { return ab.b / (depth - ab.a); }
 
+glm::vec3 prcPositionFromDistance(const glm::vec3& cameraPos, const glm::vec3& viewRay, float distance) {
+    return cameraPos + glm::normalize(viewRay) * distance;
+}
+
+glm::vec3 prcPositionFromNormalizedDepth(const glm::vec3& volumePositionVS, float farZ, float storedDepth) {
+    const glm::vec3 ray(glm::vec2(volumePositionVS) * (farZ / volumePositionVS.z), farZ);
+    return ray * storedDepth;
+}
+
+glm::vec3 prcPositionAnySpace(const glm::vec3& cameraPos, const glm::vec3& eyeZAxis, const glm::vec3& viewRay, float linearDepth) {
+    const glm::vec3 ray = glm::normalize(viewRay);
+    const float viewZProj = glm::dot(eyeZAxis, ray);
+    return cameraPos + ray * (linearDepth / viewZProj);
+}
+
 PrcScissorRect prcPointLightScissor(const glm::vec3& c, float radius, float proj00, float proj11, float nearZ, float farZ,
                                     std::uint32_t widthPx, std::uint32_t heightPx, bool roundOut) {
     glm::vec3 top = c + glm::vec3(0.0f, radius, 0.0f), bottom = c - glm::vec3(0.0f, radius, 0.0f);

@@ -227,3 +227,38 @@ TEST_CASE("prc lighting: Listing 11.3's point light and the light pre-pass buffe
     CHECK(texel.w == doctest::Approx(0.2866735).epsilon(1e-6));
     CHECK(prcLightPrePassFinal(texel, one, one).x == doctest::Approx(0.5866735).epsilon(1e-6));
 }
+
+TEST_CASE("prc gbuffer: the four position reconstructions of §11.4.1 rebuild the same world points") {
+    // A rotated camera; random points in front of it. Each variant gets what its G-buffer stores
+    // and the ray its light geometry provides, and must return the point (1e-4 relative: float).
+    const glm::vec3 eye(3.0f, 2.0f, -7.0f);
+    const glm::mat4 viewLh = glm::lookAtLH(eye, glm::vec3(0.5f, 0.0f, 1.0f), glm::vec3(0, 1, 0));
+    const glm::mat4 worldFromView = glm::inverse(viewLh);
+    const glm::vec3 eyeZ = glm::normalize(glm::vec3(worldFromView[2]));  // the view's +z in world space
+    const float nearZ = 1.0f, farZ = 100.0f;
+    const glm::mat4 proj = glm::perspectiveLH_ZO(glm::radians(60.0f), 1.5f, nearZ, farZ);
+    const PrcProjectionAB ab = prcProjectionAB(nearZ, farZ);
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u(-8.0f, 8.0f);
+    int checked = 0;
+    for (int i = 0; i < 300; ++i) {
+        const glm::vec3 world(u(rng), u(rng), u(rng));
+        const glm::vec3 view(viewLh * glm::vec4(world, 1.0f));
+        if (view.z < 2.0f) continue;
+        const float tol = 1e-4f * glm::length(view) + 1e-5f;
+        // (a) distance along the world-space ray through the point (a volume vertex on that ray).
+        CHECK(glm::length(prcPositionFromDistance(eye, world - eye, glm::length(view)) - world) <= tol);
+        // (b) depth / far, with a volume vertex anywhere on the same view ray (here twice as far).
+        const glm::vec3 b = prcPositionFromNormalizedDepth(view * 2.0f, farZ, view.z / farZ);
+        CHECK(glm::length(b - view) <= tol);
+        // (c) hardware depth through ProjectionA/B along (x/z, y/z, 1).
+        const glm::vec4 clip = proj * glm::vec4(view, 1.0f);
+        const float linear = prcLinearDepth(clip.z / clip.w, ab);
+        const glm::vec3 c = glm::vec3(view.x / view.z, view.y / view.z, 1.0f) * linear;
+        CHECK(glm::length(c - view) <= 10.0f * tol);  // depth precision near the far plane (Fig. 11.8)
+        // (d) any space: the world ray and the eye's z axis.
+        CHECK(glm::length(prcPositionAnySpace(eye, eyeZ, world - eye, view.z) - world) <= tol);
+        ++checked;
+    }
+    CHECK(checked > 100);
+}

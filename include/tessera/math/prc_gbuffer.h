@@ -42,6 +42,18 @@ struct PrcProjectionAB {
 PrcProjectionAB prcProjectionAB(float nearZ, float farZ);
 float prcLinearDepth(float depth, const PrcProjectionAB& ab);
 
+// The chapter's other ways to rebuild a position from one stored value (§11.4.1), each with the
+// ray its light volume or quad hands the pixel shader, left-handed view space:
+//   (a) Listings 11.9/11.10: the G-buffer stores length(positionVS); the light pass walks that
+//       distance along normalize(viewRay) from the camera.
+glm::vec3 prcPositionFromDistance(const glm::vec3& cameraPos, const glm::vec3& viewRay, float distance);
+//   (b) Listing 11.11: the G-buffer stores positionVS.z / Far; a volume's ray is scaled to the far
+//       plane, viewRay = (p.xy * (Far / p.z), Far), and the position is viewRay * stored.
+glm::vec3 prcPositionFromNormalizedDepth(const glm::vec3& volumePositionVS, float farZ, float storedDepth);
+//   (d) Listing 11.13: any space: the linear depth divided by the ray's cosine with the eye's z
+//       axis, along the normalized ray from the camera.
+glm::vec3 prcPositionAnySpace(const glm::vec3& cameraPos, const glm::vec3& eyeZAxis, const glm::vec3& viewRay, float linearDepth);
+
 // Listing 11.14: the screen rectangle of a point light's sphere (view-space centre, radius) for a
 // symmetric perspective projection with P(0, 0), P(1, 1), near / far clip distances and a
 // width x height viewport: the sphere's left/right/top/bottom points pushed towards or away from
