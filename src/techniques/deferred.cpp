@@ -80,6 +80,10 @@ struct GBufferPS {
         if constexpr (kTargets == 5) out.target[4] = glm::vec4(in.varyings.posView, 1.0f);
     }
 };
+template <bool kDiscard>
+using GBufferPS4 = GBufferPS<kDiscard, 4>;
+template <bool kDiscard>
+using GBufferPS5 = GBufferPS<kDiscard, 5>;
 
 // ---------------------------------------------------------------------------------------------
 // Light volumes and the full-screen quad: VS_main with position only (no varyings used).
@@ -550,40 +554,18 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const SceneResources& res, const RenderTargets& rt,
                          bool floatTargets, bool forwardAlpha, DrawStats* stats,
                          std::map<std::string, std::uint64_t>* variantCounts) {
-    const bool positionTarget = rt.colors[4] != nullptr;
-    for (const DrawItem& item : res.drawItems()) {
-        const PhongMaterial material = phongFromGltf(res.material(item.material));
-        if (material.isTransparent()) continue;  // OpaquePass
-        // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque
-        // pass, with its glTF additions: doubleSided culls none, mirrored transforms).
-        DrawState st = makeDrawState(kDeferredGBufferPass, Viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f});
-        st.precision = fwd.precision;
-        st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
-        st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
-        const glm::mat4 viewFromObject = fwd.viewFromWorld * item.worldFromObject;
-        const PhongVS vs{fwd.clipFromView * viewFromObject, viewFromObject};
-        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        const PhongShaderData<float> data =
-            makePhongShaderData<float>(material, *fwd.textures, std::span<const ViewLight<float>>());
-        const PhongGatherVariant variant = selectPhongGather(phongFeatures(material, true), "gbuffer");
-        if (variantCounts) ++(*variantCounts)[variant.name];
-        const std::span<const SceneVertex> vertices(prim.vertices);
-        const auto run = [&](auto ps) {
-            ps.gather = variant.fn;
-            ps.data = &data;
-            ps.floatTargets = floatTargets;
-            ps.forwardAlpha = forwardAlpha;
-            DrawStats s = device.draw(st, rt, vertices, prim.indices, vs, ps);
-            if (stats) *stats += s;
-        };
-        if (positionTarget) {
-            if (variant.mayDiscard) run(GBufferPS<true, 5>{});
-            else run(GBufferPS<false, 5>{});
-        } else {
-            if (variant.mayDiscard) run(GBufferPS<true, 4>{});
-            else run(GBufferPS<false, 4>{});
-        }
-    }
+    // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque pass, with its
+    // glTF additions: doubleSided culls none, mirrored transforms).
+    const auto configure = [&](auto& ps) {
+        ps.floatTargets = floatTargets;
+        ps.forwardAlpha = forwardAlpha;
+    };
+    if (rt.colors[4] != nullptr)  // position gbuffer: RT4 holds the view position
+        gbuffer_detail::drawOpaqueGBuffer<GBufferPS5>(fwd, device, res, rt, kDeferredGBufferPass, "gbuffer", configure, stats,
+                                                      variantCounts);
+    else
+        gbuffer_detail::drawOpaqueGBuffer<GBufferPS4>(fwd, device, res, rt, kDeferredGBufferPass, "gbuffer", configure, stats,
+                                                      variantCounts);
 }
 
 Frame buildDeferred(const TechniqueContext& context) { return buildDeferredFrame(context, Method::Dgep); }

@@ -137,4 +137,23 @@ inline void render(const TestScene& t, const std::string& technique, const nlohm
     buildTechnique(technique, ctx, ctx.sceneFile).run(out.registry);
 }
 
+// The draw statistics of one frame of `technique` (2 threads), e.g. pixel-shader invocations.
+inline DrawStats renderStats(const TestScene& t, const std::string& technique, const nlohmann::json& options) {
+    const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
+    Device device(DeviceConfig{32, 2});
+    DrawStats stats;
+    TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.camera = t.camera;
+    ctx.width = kWidth;
+    ctx.height = kHeight;
+    ctx.options = options;
+    ctx.stats = &stats;
+    ctx.sceneFile = "memory.json";
+    BufferRegistry registry;
+    buildTechnique(technique, ctx, ctx.sceneFile).run(registry);
+    return stats;
+}
+
 } // namespace tessera::test

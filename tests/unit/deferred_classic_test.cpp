@@ -18,21 +18,7 @@ nlohmann::json geometry(const std::string& g, bool stencil = false) {
 }
 
 DrawStats renderStats(const test::TestScene& t, const nlohmann::json& options) {
-    const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
-    Device device(DeviceConfig{32, 2});
-    DrawStats stats;
-    TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = t.camera;
-    ctx.width = test::kWidth;
-    ctx.height = test::kHeight;
-    ctx.options = options;
-    ctx.stats = &stats;
-    ctx.sceneFile = "memory.json";
-    BufferRegistry reg;
-    buildTechnique("deferred-classic", ctx, ctx.sceneFile).run(reg);
-    return stats;
+    return test::renderStats(t, "deferred-classic", options);
 }
 
 } // namespace

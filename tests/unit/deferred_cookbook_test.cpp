@@ -59,24 +59,8 @@ TEST_CASE("deferred-cookbook: corrected volumes shade exactly the pixels a full-
         if (precision == Precision::Reference) CHECK(test::sameBytes(volumes.get(kReferenceBufferName), quads.get(kReferenceBufferName)));
     }
     // What the volumes save: pixel-shader invocations of the lights pass.
-    DrawStats volumeStats, quadStats;
-    {
-        const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
-        for (auto [options, stats] : {std::pair{corrected(), &volumeStats}, std::pair{with(corrected(), "lightGeometry", "quads"), &quadStats}}) {
-            Device device(DeviceConfig{32, 2});
-            TechniqueContext ctx;
-            ctx.device = &device;
-            ctx.resources = &resources;
-            ctx.camera = t.camera;
-            ctx.width = test::kWidth;
-            ctx.height = test::kHeight;
-            ctx.options = options;
-            ctx.stats = stats;
-            ctx.sceneFile = "memory.json";
-            BufferRegistry reg;
-            buildTechnique("deferred-cookbook", ctx, ctx.sceneFile).run(reg);
-        }
-    }
+    const DrawStats volumeStats = test::renderStats(t, "deferred-cookbook", corrected());
+    const DrawStats quadStats = test::renderStats(t, "deferred-cookbook", with(corrected(), "lightGeometry", "quads"));
     CHECK(volumeStats.psInvocations < quadStats.psInvocations);
 }
 

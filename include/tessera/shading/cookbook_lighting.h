@@ -41,6 +41,33 @@ T blinn(const Vec3<T>& toEye, const Vec3<T>& toLight, const CookbookMaterial<T>&
 }
 } // namespace cookbook_detail
 
+// The point light's terms at a surface, for the light loops and a pixel watch's LightTerm.
+template <class T>
+struct CookbookTerms {
+    Vec3<T> color{T(0)};
+    T distance = T(0), nDotL = T(0), attenuation = T(1), cone = T(1);
+};
+
+namespace cookbook_detail {
+// The part CalcPoint and CalcSpot share: ToLight = LightPos - P, d = length, L = ToLight / d;
+// diffuseColor * saturate(N.L) + Blinn; and the falloff (1 - saturate(d * RangeRcp))^2. Returns
+// the unlit-by-colour sum; `t` gets distance, N.L, attenuation and L.
+template <class T, bool kFast>
+Vec3<T> litByPoint(const Vec3<T>& posWorld, const Vec3<T>& eyeWorld, const CookbookMaterial<T>& m, const Vec3<T>& lightPos,
+                   T rangeRcp, CookbookTerms<T>& t, Vec3<T>& toLight) {
+    toLight = lightPos - posWorld;
+    t.distance = std::sqrt(hlsl::dot(toLight, toLight));
+    toLight = toLight / t.distance;
+    t.nDotL = hlsl::dot(toLight, m.normal);
+    Vec3<T> finalColor = m.diffuseColor * saturate(t.nDotL);
+    const Vec3<T> toEye = normalize3<T, kFast>(eyeWorld - posWorld);
+    finalColor += Vec3<T>(blinn<T, kFast>(toEye, toLight, m));
+    const T distToLightNorm = T(1) - saturate(t.distance * rangeRcp);
+    t.attenuation = distToLightNorm * distToLightNorm;
+    return finalColor;
+}
+} // namespace cookbook_detail
+
 // CalcAmbient: (AmbientDown + (N.y * 0.5 + 0.5) * AmbientRange) * color, AmbientRange = up - down.
 template <class T>
 Vec3<T> cookbookAmbient(const Vec3<T>& normal, const Vec3<T>& color, const Vec3<T>& ambientDown, const Vec3<T>& ambientRange) {
@@ -60,29 +87,14 @@ Vec3<T> cookbookDirectional(const Vec3<T>& posWorld, const Vec3<T>& eyeWorld, co
     return finalColor * m.diffuseColor;
 }
 
-// The point light's terms at a surface, for the light loops and a pixel watch's LightTerm.
-template <class T>
-struct CookbookTerms {
-    Vec3<T> color{T(0)};
-    T distance = T(0), nDotL = T(0), attenuation = T(1), cone = T(1);
-};
-
 // CalcPoint: ToLight = LightPos - P; d = length; Phong (Lambert) diffuse diffuseColor * saturate(N.L)
 // plus Blinn (not multiplied by the diffuse colour), all x LightColor x (1 - saturate(d / range))^2.
 template <class T, bool kFast = false>
 CookbookTerms<T> cookbookPoint(const Vec3<T>& posWorld, const Vec3<T>& eyeWorld, const CookbookMaterial<T>& m,
                                const Vec3<T>& lightPos, T rangeRcp, const Vec3<T>& color) {
-    using namespace cookbook_detail;
     CookbookTerms<T> t;
-    Vec3<T> toLight = lightPos - posWorld;
-    t.distance = std::sqrt(hlsl::dot(toLight, toLight));
-    toLight = toLight / t.distance;
-    t.nDotL = hlsl::dot(toLight, m.normal);
-    Vec3<T> finalColor = m.diffuseColor * saturate(t.nDotL);
-    const Vec3<T> toEye = normalize3<T, kFast>(eyeWorld - posWorld);
-    finalColor += Vec3<T>(blinn<T, kFast>(toEye, toLight, m));
-    const T distToLightNorm = T(1) - saturate(t.distance * rangeRcp);
-    t.attenuation = distToLightNorm * distToLightNorm;
+    Vec3<T> toLight;
+    const Vec3<T> finalColor = cookbook_detail::litByPoint<T, kFast>(posWorld, eyeWorld, m, lightPos, rangeRcp, t, toLight);
     t.color = finalColor * (color * t.attenuation);  // finalColor *= PointColor.rgb * Attn
     return t;
 }
@@ -95,19 +107,12 @@ CookbookTerms<T> cookbookSpot(const Vec3<T>& posWorld, const Vec3<T>& eyeWorld, 
                               T cosConeAttRange) {
     using namespace cookbook_detail;
     CookbookTerms<T> t;
-    Vec3<T> toLight = lightPos - posWorld;
-    t.distance = std::sqrt(hlsl::dot(toLight, toLight));
-    toLight = toLight / t.distance;
-    t.nDotL = hlsl::dot(toLight, m.normal);
-    Vec3<T> finalColor = m.diffuseColor * saturate(t.nDotL);
-    const Vec3<T> toEye = normalize3<T, kFast>(eyeWorld - posWorld);
-    finalColor += Vec3<T>(blinn<T, kFast>(toEye, toLight, m));
+    Vec3<T> toLight;
+    const Vec3<T> finalColor = litByPoint<T, kFast>(posWorld, eyeWorld, m, lightPos, rangeRcp, t, toLight);
     const T cosAng = hlsl::dot(dirToLight, toLight);
     T conAtt = cosConeAttRange > T(0) ? saturate((cosAng - cosOuter) / cosConeAttRange) : (cosAng >= cosOuter ? T(1) : T(0));
     conAtt *= conAtt;
     t.cone = conAtt;
-    const T distToLightNorm = T(1) - saturate(t.distance * rangeRcp);
-    t.attenuation = distToLightNorm * distToLightNorm;
     t.color = finalColor * ((color * t.attenuation) * conAtt);  // finalColor *= SpotColor.rgb * Attn * conAtt
     return t;
 }
