@@ -257,13 +257,7 @@ PassState lightPassState(const ClassicOptions& o) {
     p.rasterizer.cullMode = CullMode::Back;
     p.depthStencil.depthEnable = false;
     p.depthStencil.depthWriteEnable = false;
-    if (o.stencil) {
-        p.depthStencil.stencilEnable = true;
-        const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
-        p.depthStencil.frontFace = equal;
-        p.depthStencil.backFace = equal;
-        p.stencilRef = 1;
-    }
+    if (o.stencil) gbuffer_detail::stencilEqualOne(p);
     p.blend.renderTarget[0] = kAdditiveBlend;
     return p;
 }
@@ -440,13 +434,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    rt.depthStencil = &reg.get("depth");
                    PassState pass;
                    pass.depthStencil.depthFunc = ComparisonFunc::Less;
-                   if (setup->options.stencil) {  // the lit-geometry mask: ALWAYS / REPLACE 1
-                       pass.depthStencil.stencilEnable = true;
-                       const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
-                       pass.depthStencil.frontFace = replace;
-                       pass.depthStencil.backFace = replace;
-                       pass.stencilRef = 1;
-                   }
+                   if (setup->options.stencil) gbuffer_detail::stencilReplaceOne(pass);  // the lit-geometry mask
                    const auto configure = [&](auto& ps) { ps.worldFromView = setup->worldFromView; };
                    if (lightPrePass)
                        gbuffer_detail::drawOpaqueGBuffer<LppGBufferPS>(*setup->forward, *device, *res, rt, pass, "lpp-gbuffer",
@@ -498,11 +486,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                                                                               configure, stats, variantCounts);
                    }});
     } else if (reference) {
-        frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [](BufferRegistry& reg) {
-                       const Surface& sum = reg.get("accumulation");
-                       storeAsUnorm(sum, reg.get(kBackBufferName));
-                       storeAsUnorm(sum, reg.get(kReferenceBufferName));
-                   }});
+        frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision));
     }
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;

@@ -4,6 +4,7 @@
 #include <tessera/techniques/deferred_cookbook.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -251,6 +252,11 @@ glm::mat4 frameAlong(const glm::vec3& posLh, const glm::vec3& dirLh) {
 std::vector<LightDraw> planDraws(const std::vector<Light>& lights, const CookbookOptions& o, const glm::mat4& viewLh,
                                  const glm::mat4& projectionLh) {
     std::vector<LightDraw> directional, volumes;
+    // The unit point volume and its enlargement are the same for every point light, and a spot's
+    // enlargement depends only on its angle: built once each, not per light.
+    const CookbookVolumeMesh pointMesh = cookbookPointVolume();
+    const float pointPad = o.padded ? cookbookPointPadding() : 1.0f;
+    std::map<float, CookbookSpotPadding> spotPads;
     const auto toViewLh = [&](const glm::vec3& p) { return glm::vec3(viewLh * glm::vec4(p, 1.0f)); };
     const auto dirViewLh = [&](const glm::vec3& d) { return glm::normalize(glm::vec3(viewLh * glm::vec4(d, 0.0f))); };
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -275,10 +281,10 @@ std::vector<LightDraw> planDraws(const std::vector<Light>& lights, const Cookboo
             if (finite) {
                 // S(range) T(L View) P: the unit sphere around the light's view position, its axes the
                 // view's ("the volume will always face the camera").
-                const float s = src.range * (o.padded ? cookbookPointPadding() : 1.0f);
+                const float s = src.range * pointPad;
                 const glm::mat4 viewFromLocal = glm::translate(glm::mat4(1.0f), toViewLh(src.positionWorld)) *
                                                 glm::scale(glm::mat4(1.0f), glm::vec3(s));
-                setMesh(d, cookbookPointVolume(), projectionLh * viewFromLocal);
+                setMesh(d, pointMesh, projectionLh * viewFromLocal);
             }
         } else if (src.type == LightType::Spot) {
             const float outer = float(hlsl::radians(double(src.spotHalfAngleDeg)));
@@ -296,7 +302,11 @@ std::vector<LightDraw> planDraws(const std::vector<Light>& lights, const Cookboo
                     setMesh(d, cookbookSpotVolume(kSqrtHalf, kSqrtHalf),
                             projectionLh * frame * glm::scale(glm::mat4(1.0f), glm::vec3(scaleXy, scaleXy, src.range)));
                 } else {
-                    const CookbookSpotPadding pad = o.padded ? cookbookSpotPadding(outer) : CookbookSpotPadding{outer, 1.0f};
+                CookbookSpotPadding pad{outer, 1.0f};
+                if (o.padded) {
+                    const auto it = spotPads.find(outer);
+                    pad = it != spotPads.end() ? it->second : spotPads.emplace(outer, cookbookSpotPadding(outer)).first->second;
+                }
                     setMesh(d, cookbookSpotVolume(std::sin(pad.halfAngle), std::cos(pad.halfAngle)),
                             projectionLh * frame * glm::scale(glm::mat4(1.0f), glm::vec3(src.range * pad.scale)));
                 }
@@ -336,24 +346,10 @@ PassState gbufferState(bool stencil) {
     p.depthStencil.depthEnable = true;
     p.depthStencil.depthWriteEnable = true;
     p.depthStencil.depthFunc = ComparisonFunc::Less;
-    if (stencil) {
-        p.depthStencil.stencilEnable = true;
-        const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
-        p.depthStencil.frontFace = replace;
-        p.depthStencil.backFace = replace;
-        p.stencilRef = 1;
-    }
+    if (stencil) gbuffer_detail::stencilReplaceOne(p);
     return p;
 }
 
-// Stencil EQUAL 1, KEEP (the companion code's "Stencil Mask" states).
-void stencilMask(PassState& p) {
-    p.depthStencil.stencilEnable = true;
-    const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
-    p.depthStencil.frontFace = equal;
-    p.depthStencil.backFace = equal;
-    p.stencilRef = 1;
-}
 
 // The full-screen quad: book: no depth-stencil view (depth disabled), the first draw without
 // blending; stencil: depth LESS without writes, stencil EQUAL 1. Later quads add.
@@ -363,7 +359,7 @@ PassState quadState(const CookbookOptions& o, bool first) {
     p.depthStencil.depthEnable = o.stencil;
     p.depthStencil.depthWriteEnable = false;
     p.depthStencil.depthFunc = ComparisonFunc::Less;
-    if (o.stencil) stencilMask(p);
+    if (o.stencil) gbuffer_detail::stencilEqualOne(p);
     if (!first) p.blend.renderTarget[0] = kAdditiveBlend;
     return p;
 }
@@ -378,7 +374,7 @@ PassState volumeState(const CookbookOptions& o) {
     p.depthStencil.depthEnable = true;
     p.depthStencil.depthWriteEnable = false;
     p.depthStencil.depthFunc = ComparisonFunc::GreaterEqual;
-    if (o.stencil) stencilMask(p);
+    if (o.stencil) gbuffer_detail::stencilEqualOne(p);
     p.blend.renderTarget[0] = kAdditiveBlend;
     return p;
 }
@@ -499,15 +495,7 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
                    case Precision::Exact: runLights<float, false>(*setup, *device, reg, target, stats, variantCounts); break;
                    }
                }});
-    if (reference) {
-        // The float accumulation to the back buffer as an UNORM target stores a PS value, and
-        // clamped to the reference buffer.
-        frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [](BufferRegistry& reg) {
-                       const Surface& accumulation = reg.get("accumulation");
-                       storeAsUnorm(accumulation, reg.get(kBackBufferName));
-                       storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
-                   }});
-    }
+    if (reference) frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision));
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
     return frame;
 }

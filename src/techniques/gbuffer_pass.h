@@ -52,6 +52,34 @@ void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneRes
 inline constexpr std::array<glm::vec3, 4> kQuadClip{{{-1.0f, 1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}}};
 inline constexpr std::array<std::uint32_t, 6> kQuadIndices{0, 1, 2, 1, 3, 2};  // the strip's second triangle is (v1, v3, v2)
 
+// The stencil mask of lit geometry (PR&C D3D11 §11.4.2; the Cookbook's companion code): the
+// G-buffer pass writes 1 under geometry (ALWAYS / REPLACE, ref 1), the light passes test EQUAL 1.
+inline void stencilReplaceOne(PassState& p) {
+    p.depthStencil.stencilEnable = true;
+    const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
+    p.depthStencil.frontFace = replace;
+    p.depthStencil.backFace = replace;
+    p.stencilRef = 1;
+}
+inline void stencilEqualOne(PassState& p) {
+    p.depthStencil.stencilEnable = true;
+    const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
+    p.depthStencil.frontFace = equal;
+    p.depthStencil.backFace = equal;
+    p.stencilRef = 1;
+}
+
+// Precision reference: the float "accumulation" to the back buffer as an UNORM target stores a PS
+// value, and clamped to the reference buffer.
+inline Pass presentAccumulationPass(Precision precision) {
+    const std::string back(kBackBufferName);
+    return {"present", {"accumulation"}, withReferenceBuffer({back}, precision), [](BufferRegistry& reg) {
+                const Surface& accumulation = reg.get("accumulation");
+                storeAsUnorm(accumulation, reg.get(kBackBufferName));
+                storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
+            }};
+}
+
 // Forward's transparent pass over the back buffer (and the reference copy) with the technique's depth.
 inline Pass forwardTransparentPass(std::shared_ptr<const ForwardPassSetup> setup, const TechniqueContext& ctx) {
     Device* device = ctx.device;
