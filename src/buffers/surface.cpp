@@ -87,12 +87,13 @@ void Surface::clearUint(const glm::uvec4& value) {
     fillPattern(mBytes, pattern, mBytesPerTexel);
 }
 
-void Surface::clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil) {
-    clearDepthStencilRect(0, 0, mDesc.width, mDesc.height, clearDepth, depth, clearStencil, stencil);
+void Surface::clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil,
+                                std::uint8_t stencilWriteMask) {
+    clearDepthStencilRect(0, 0, mDesc.width, mDesc.height, clearDepth, depth, clearStencil, stencil, stencilWriteMask);
 }
 
 void Surface::clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uint32_t x1, std::uint32_t y1, bool clearDepth,
-                                    float depth, bool clearStencil, std::uint8_t stencil) {
+                                    float depth, bool clearStencil, std::uint8_t stencil, std::uint8_t stencilWriteMask) {
     const FormatInfo& info = formatInfo(mDesc.format);
     if (!info.hasDepth) throw std::invalid_argument("clearDepthStencil on " + std::string(info.name));
     // D3D11 ClearDepthStencilView: depth is clamped to [0,1] before conversion.
@@ -107,8 +108,8 @@ void Surface::clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uin
             setBits |= convert::depthToD24(z);
         }
         if (clearStencil) {
-            keepBits &= 0x00FFFFFFu;
-            setBits |= std::uint32_t(stencil) << 24;
+            keepBits &= 0x00FFFFFFu | (std::uint32_t(std::uint8_t(~stencilWriteMask)) << 24);
+            setBits |= std::uint32_t(stencil & stencilWriteMask) << 24;
         }
         std::memcpy(keep, &keepBits, 4);
         std::memcpy(set, &setBits, 4);
@@ -118,8 +119,8 @@ void Surface::clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uin
             std::memcpy(set, &z, 4);
         }
         if (clearStencil && info.hasStencil) {
-            keep[4] = std::byte{0};
-            set[4] = std::byte{stencil};
+            keep[4] = std::byte(std::uint8_t(~stencilWriteMask));
+            set[4] = std::byte(std::uint8_t(stencil & stencilWriteMask));
         }
     }
     x1 = std::min(x1, mDesc.width);

@@ -97,7 +97,7 @@ options:
   --tile T          tile size in px, even, 8..1024 (default 64)
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
                     bytes; for comparing speed, and as the oracle the tests hold the SIMD path to)
-  --msaa S          samples per pixel, 1, 2, 4 or 8 (builtin scene only; default 1)
+  --msaa S          samples per pixel, 1, 2, 4 or 8 (default 1); techniques without MSAA refuse more
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png),
                     a viewable picture of each in DIR/view/ (depth stretched, stencil and integers through
                     palettes with a colour bar) and DIR/manifest.json (passes, buffers, formats, decode rules,
@@ -299,7 +299,6 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = fs::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
-    if (o.msaa != 1 && o.scene != "builtin") throw UsageError("--msaa: only the builtin scene renders with MSAA so far");
     if (!o.options.empty() && o.scene == "builtin")
         throw UsageError("--option: the builtin scene has no technique options (render a scene file to use them)");
     if (o.exrTypeGiven && ext != ".exr") warn("--exr: the output '" + o.out + "' is not .exr; the flag changes nothing");
@@ -435,6 +434,15 @@ void printDrawStats(const tessera::DrawStats& s) {
                 (unsigned long long)s.setup.trianglesOut, (unsigned long long)s.quads, (unsigned long long)s.psInvocations,
                 (unsigned long long)s.samplesPassed);
     for (const auto& [path, draws] : s.paths) std::printf("path %-44s %llu draws\n", path.c_str(), (unsigned long long)draws);
+    if (s.psPerSample > 0 || s.edgeTestedPixels > 0 || s.computeShadedSamples > 0) {
+        // MSAA: what ran once per pixel and what ran once per sample.
+        std::printf("msaa     pixel shader %llu per pixel, %llu per sample; compute shading %llu pixels, %llu samples\n",
+                    (unsigned long long)(s.psInvocations - s.psPerSample), (unsigned long long)s.psPerSample,
+                    (unsigned long long)s.computeShadedPixels, (unsigned long long)s.computeShadedSamples);
+        if (s.edgeTestedPixels > 0)
+            std::printf("edges    %llu of %llu pixels shaded per sample (%.2f%%)\n", (unsigned long long)s.edgePixels,
+                        (unsigned long long)s.edgeTestedPixels, 100.0 * double(s.edgePixels) / double(s.edgeTestedPixels));
+    }
     std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
                 (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
 }
@@ -642,6 +650,12 @@ int render(const std::vector<std::string_view>& args) {
         if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
     }
     applyOptionArgs(o, desc.technique, desc.techniqueOptions);
+    if (const tessera::TechniqueInfo* info = tessera::findTechnique(desc.technique); info && info->build && o.msaa > 1 && !info->msaa) {
+        std::string ready;
+        for (const tessera::TechniqueInfo& t : tessera::techniques())
+            if (t.msaa) ready += (ready.empty() ? "" : ", ") + std::string(t.id);
+        throw UsageError("--msaa: technique " + desc.technique + " does not render with MSAA yet (MSAA: " + ready + ")");
+    }
     o.viewTileSize = lightGridTileSize(desc);
     if (!o.dumpLights.empty() && desc.technique != "deferred" && desc.technique != "deferred-killzone")
         throw UsageError("--dump-lights: " + desc.technique +
@@ -693,6 +707,7 @@ int render(const std::vector<std::string_view>& args) {
     ctx.camera = camera;
     ctx.width = desc.width;
     ctx.height = desc.height;
+    ctx.sampleCount = o.msaa;
     ctx.options = desc.techniqueOptions;
     ctx.precision = desc.precision;
     ctx.stats = &drawStats;
@@ -741,6 +756,7 @@ int render(const std::vector<std::string_view>& args) {
         manifest["precision"] = std::string(tessera::precisionName(desc.precision));
         manifest["width"] = desc.width;
         manifest["height"] = desc.height;
+        manifest["msaa"] = o.msaa;
         manifest["options"] = desc.techniqueOptions.is_null() ? nlohmann::json::object() : desc.techniqueOptions;
         manifest["lights"] = scene.lights.size();
         const glm::quat& q = camera.orientationWorld;
@@ -809,11 +825,11 @@ int list(const std::vector<std::string_view>& args) {
     }
     std::puts("techniques:");
     for (const tessera::TechniqueInfo& t : tessera::techniques())
-        std::printf("  %-18s %-12s %s [%s]\n", std::string(t.id).c_str(), t.build ? "ready" : "planned",
+        std::printf("  %-18s %-12s %s [%s]\n", std::string(t.id).c_str(), !t.build ? "planned" : t.msaa ? "ready, MSAA" : "ready",
                     std::string(t.summary).c_str(), std::string(t.source).c_str());
     const fs::path dir = bundledScenesDir();
     std::printf("bundled scenes (%s):\n", dir.string().c_str());
-    std::printf("  %-22s %s\n", "builtin", "generated cubes and a blended pane (no files; supports --msaa)");
+    std::printf("  %-22s %s\n", "builtin", "generated cubes and a blended pane (no files, no lights)");
     std::vector<fs::path> files;
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(dir, ec))

@@ -26,6 +26,7 @@
 #include <tessera/techniques/technique_options.h>
 
 #include "gbuffer_pass.h"
+#include "msaa_deferred.h"
 
 namespace tessera {
 namespace {
@@ -45,6 +46,7 @@ struct DeferredOptions {
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;            // transparent pass only
     std::uint64_t threshold = kKillzoneDefaultThreshold;
+    EdgeDetector edges = EdgeDetector::DepthNormal;  // MSAA: the demo has none; Intel's test
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -54,36 +56,29 @@ struct DeferredOptions {
 
 // PS_Geometry's outputs: SV_Target0 light accumulation, 1 diffuse, 2 specular, 3 view normal,
 // (4 view position with position gbuffer).
-template <bool kDiscard, int kTargets>
-struct GBufferPS {
-    using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = kTargets;
-    static constexpr bool kMayDiscard = kDiscard;
-    PhongGatherFn gather = nullptr;
-    const PhongShaderData<float>* data = nullptr;
+template <int kLayoutTargets>
+struct DeferredEncoder {
+    static constexpr int kTargetCount = kLayoutTargets;
     bool floatTargets = false;     // spec power unpacked in RT2.a
     bool forwardAlpha = false;     // accumulate lighting: RT0.a = alpha * Opacity (forward's output alpha)
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargets>& out) const {
-        PhongSurface<float> s;
-        if (!gather(*data, in, s)) {
-            out.discard();
-            return;
-        }
+    float opacity = 1.0f;          // the material's Opacity
+    template <class Out>
+    void encode(const PhongSurface<float>& s, const PixelInput<PhongVaryings>& in, Out& out) const {
         const glm::vec4 ambientEmissive = s.ambient + s.emissive;
-        out.target[0] = forwardAlpha ? glm::vec4(ambientEmissive.x, ambientEmissive.y, ambientEmissive.z, s.alpha * data->opacity)
+        out.target[0] = forwardAlpha ? glm::vec4(ambientEmissive.x, ambientEmissive.y, ambientEmissive.z, s.alpha * opacity)
                                      : ambientEmissive;
         out.target[1] = s.diffuse;
         // OUT.Specular = float4(specular.rgb, log2(specularPower) / 10.5f)
         out.target[2] = glm::vec4(s.specular.x, s.specular.y, s.specular.z,
                                   floatTargets ? s.specularPower : packSpecularPower(s.specularPower));
         out.target[3] = s.normalView;
-        if constexpr (kTargets == 5) out.target[4] = glm::vec4(in.varyings.posView, 1.0f);
+        if constexpr (kLayoutTargets == 5) out.target[4] = glm::vec4(in.varyings.posView, 1.0f);
     }
 };
-template <bool kDiscard>
-using GBufferPS4 = GBufferPS<kDiscard, 4>;
-template <bool kDiscard>
-using GBufferPS5 = GBufferPS<kDiscard, 5>;
+template <bool D> using GBufferPS4 = gbuffer_detail::GBufferShader<DeferredEncoder<4>, D>;
+template <bool D> using GBufferPS5 = gbuffer_detail::GBufferShader<DeferredEncoder<5>, D>;
+template <bool D> using GBufferMsaaPS4 = gbuffer_detail::GBufferShader<DeferredEncoder<4>, D, true>;
+template <bool D> using GBufferMsaaPS5 = gbuffer_detail::GBufferShader<DeferredEncoder<5>, D, true>;
 
 // ---------------------------------------------------------------------------------------------
 // Light volumes and the full-screen quad: VS_main with position only (no varyings used).
@@ -118,6 +113,15 @@ struct LightingInputs {
     PixelSamplePoint samplePoint = PixelSamplePoint::Corner;
     bool floatTargets = false, positionFromGBuffer = false;
 
+    // The reconstructed view position of the shader's pixel or sample: the demo's corner, or the
+    // centre: SV_Position, which is the sample's position when the shader runs per sample.
+    glm::vec4 positionView(const PixelInput<NoVaryings>& pin, std::uint32_t x, std::uint32_t y) const {
+        const float d = depth->loadDepth(x, y, pin.sampleIndex);
+        if (samplePoint == PixelSamplePoint::Centre)
+            return screenToView(glm::vec4(pin.posWindow.x, pin.posWindow.y, d, 1.0f), screenDimensions, inverseProjection);
+        return reconstructPositionView(x, y, d, screenDimensions, inverseProjection, samplePoint);
+    }
+
     // Exp2(specular.a * 10.5) of the demo, or the unpacked float.
     float specularPower(const glm::vec4& specularStored) const {
         return floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w);
@@ -138,19 +142,17 @@ struct DeferredLightingPS {
     bool fast = false;
     std::uint32_t lightIndex = 0;  // scene index of `light`, for a pixel watch's LightTerm
     void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<kTargets>& out) const {
-        // int2 texCoord = IN.position.xy (truncation: the pixel's integer corner).
+        // int2 texCoord = IN.position.xy (truncation: the pixel's integer corner). With MSAA the
+        // shader's sample (0 per pixel): Texture2DMS.Load(texCoord, SV_SampleIndex).
         const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
-        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y);
-        const Vec4<T> posView(in->positionFromGBuffer ? in->position.load(x, y)
-                                                      : reconstructPositionView(x, y, in->depth->loadDepth(x, y),
-                                                                                in->screenDimensions, in->inverseProjection,
-                                                                                in->samplePoint));
+        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y), i = pin.sampleIndex;
+        const Vec4<T> posView(in->positionFromGBuffer ? in->position.load(x, y, i) : in->positionView(pin, x, y));
         const Vec4<T> eyeView{T(0), T(0), T(0), T(1)};
         const Vec4<T> viewDirView = hlsl::normalize(eyeView - posView);
-        const Vec4<T> diffuse(in->diffuse.load(x, y));
-        const glm::vec4 specularStored = in->specular.load(x, y);
+        const Vec4<T> diffuse(in->diffuse.load(x, y, i));
+        const glm::vec4 specularStored = in->specular.load(x, y, i);
         const Vec4<T> specular(specularStored);
-        const Vec4<T> normalView(in->normal.load(x, y));
+        const Vec4<T> normalView(in->normal.load(x, y, i));
         const T specularPower = T(in->specularPower(specularStored));
         LightingResult<T> lit;
         const auto shade = [&]<bool kFast>() {
@@ -188,15 +190,15 @@ struct ComposePS {
     const LightingInputs* in = nullptr;
     void operator()(const PixelInput<NoVaryings>& pin, PixelOutput<1>& out) const {
         const glm::ivec2 px = pixelFromSvPosition(glm::vec2(pin.posWindow));
-        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y);
-        const glm::vec4 ambientEmissive = in->accumulation.load(x, y);
-        const glm::vec4 litDiffuse = in->lightDiffuse.load(x, y);
-        const glm::vec4 specularStored = in->specular.load(x, y);
-        glm::vec4 diffuse = in->diffuse.load(x, y);
+        const std::uint32_t x = std::uint32_t(px.x), y = std::uint32_t(px.y), i = pin.sampleIndex;
+        const glm::vec4 ambientEmissive = in->accumulation.load(x, y, i);
+        const glm::vec4 litDiffuse = in->lightDiffuse.load(x, y, i);
+        const glm::vec4 specularStored = in->specular.load(x, y, i);
+        glm::vec4 diffuse = in->diffuse.load(x, y, i);
         diffuse *= glm::vec4(litDiffuse.x, litDiffuse.y, litDiffuse.z, 1.0f);
         glm::vec4 specular(0.0f);
         if (in->specularPower(specularStored) > 1.0f)
-            specular = glm::vec4(specularStored.x, specularStored.y, specularStored.z, 0.0f) * in->lightSpecular.load(x, y);
+            specular = glm::vec4(specularStored.x, specularStored.y, specularStored.z, 0.0f) * in->lightSpecular.load(x, y, i);
         const glm::vec4 sum = (ambientEmissive + diffuse) + specular;
         out.target[0] = glm::vec4(sum.x, sum.y, sum.z, ambientEmissive.w);
     }
@@ -247,6 +249,7 @@ DeferredOptions parseOptions(const TechniqueContext& ctx, Method method, const s
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
                                                                                  : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
+    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::DepthNormal, file);
     if (method == Method::Killzone) o.threshold = optionThreshold(j, file);
     return o;
 }
@@ -291,15 +294,16 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
 // draws since the last clear touched (SetupStats::touched) can hold anything but the clear value,
 // so clearing their bounding rectangle leaves the same bytes at a fraction of the cost (a whole
 // D24S8 buffer per light at 1280x720 is 3.7 MB of writes).
+// With MSAA the clears keep the edge bit (gbuffer_detail::kEdgeStencilBit): `writeMask` 0x7F.
 class StencilClears {
 public:
-    explicit StencilClears(Surface& depth) : mDepth(depth) {}
+    StencilClears(Surface& depth, std::uint8_t writeMask) : mDepth(depth), mWriteMask(writeMask) {}
     void clear(std::uint8_t value) {
         if (!mKnown || value != mValue) {
-            mDepth.clearDepthStencil(false, 0.0f, true, value);
+            mDepth.clearDepthStencil(false, 0.0f, true, value, mWriteMask);
         } else if (!mDirty.empty()) {
             mDepth.clearDepthStencilRect(std::uint32_t(mDirty.minX), std::uint32_t(mDirty.minY), std::uint32_t(mDirty.maxX),
-                                         std::uint32_t(mDirty.maxY), false, 0.0f, true, value);
+                                         std::uint32_t(mDirty.maxY), false, 0.0f, true, value, mWriteMask);
         }
         mKnown = true;
         mValue = value;
@@ -309,6 +313,7 @@ public:
 
 private:
     Surface& mDepth;
+    std::uint8_t mWriteMask = 0xFF;
     bool mKnown = false;  // the first clear is whole: the G-buffer pass's stencil is not tracked
     std::uint8_t mValue = 0;
     PixelRect mDirty;
@@ -339,7 +344,27 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         name += light.type == LightType::Point ? "point" : light.type == LightType::Spot ? "spot" : "directional";
         ++(*variantCounts)[name];
     };
-    StencilClears stencil(depth);
+    // MSAA: the edge bit stays set under the light steps (their stencil reads and writes use the
+    // low bits), and every shading draw runs twice: per pixel where it is clear, per sample where set.
+    const bool msaa = fwd.sampleCount > 1;
+    StencilClears stencil(depth, msaa ? std::uint8_t(~gbuffer_detail::kEdgeStencilBit) : std::uint8_t(0xFF));
+    const auto lowBits = [msaa](PassState p) {
+        if (msaa) {
+            p.depthStencil.stencilReadMask &= std::uint8_t(~gbuffer_detail::kEdgeStencilBit);
+            p.depthStencil.stencilWriteMask &= std::uint8_t(~gbuffer_detail::kEdgeStencilBit);
+        }
+        return p;
+    };
+    const auto shade = [&](const PassState& pass, const Light& light, const PS& ps) {
+        if (!msaa) {
+            stencil.drew(drawLightGeometry(setup, device, pass, shadeTargets, light, &ps, nullptr, stats));
+            return;
+        }
+        stencil.drew(drawLightGeometry(setup, device, gbuffer_detail::withEdgeTest(pass, false), shadeTargets, light, &ps, nullptr, stats));
+        const gbuffer_detail::PerSample<PS> perSample{ps};
+        stencil.drew(drawLightGeometry(setup, device, gbuffer_detail::withEdgeTest(pass, true), shadeTargets, light, &perSample,
+                                       nullptr, stats));
+    };
     const auto stepDone = [&](std::size_t light, std::string_view step) {
         if (setup.afterLightStep) setup.afterLightStep(light, step, reg);
     };
@@ -355,25 +380,25 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
             // DeferredLightingPass::Render clears the stencil for every enabled light; the
             // directional pipeline does not use it.
             stencil.clear(setup.method == Method::Killzone ? kKillzoneStencilClear : kDeferredStencilClear);
-            stencil.drew(drawLightGeometry(setup, device, kDeferredDirectionalPass, shadeTargets, light, &ps, nullptr, stats));
+            shade(kDeferredDirectionalPass, light, ps);
             count("light:", light);
             stepDone(i, "shade");
             continue;
         }
         if (setup.method == Method::Dgep) {
             stencil.clear(kDeferredStencilClear);
-            stencil.drew(drawLightGeometry<PS>(setup, device, kDeferredUnmarkPass, depthOnly, light, nullptr, nullptr, stats));
+            stencil.drew(drawLightGeometry<PS>(setup, device, lowBits(kDeferredUnmarkPass), depthOnly, light, nullptr, nullptr, stats));
             stepDone(i, "unmark");
-            stencil.drew(drawLightGeometry(setup, device, kDeferredShadePass, shadeTargets, light, &ps, nullptr, stats));
+            shade(kDeferredShadePass, light, ps);
             count("light:", light);
             stepDone(i, "shade");
         } else {
             stencil.clear(kKillzoneStencilClear);
-            stencil.drew(drawLightGeometry<PS>(setup, device, kKillzoneMarkPass, depthOnly, light, nullptr, nullptr, stats));
+            stencil.drew(drawLightGeometry<PS>(setup, device, lowBits(kKillzoneMarkPass), depthOnly, light, nullptr, nullptr, stats));
             stepDone(i, "mark");
             OcclusionQuery query;
             query.begin();
-            stencil.drew(drawLightGeometry<PS>(setup, device, kKillzoneCountPass, depthOnly, light, nullptr, &query, stats));
+            stencil.drew(drawLightGeometry<PS>(setup, device, lowBits(kKillzoneCountPass), depthOnly, light, nullptr, &query, stats));
             query.end();
             const std::uint64_t passed = query.samplesPassed();
             const std::uint32_t stored = std::uint32_t(std::min<std::uint64_t>(passed, kKillzoneNotCounted - 1u));
@@ -381,7 +406,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
                             samples->texel(std::uint32_t(i % kSamplesRow), std::uint32_t(i / kSamplesRow)));
             stepDone(i, "count");
             if (killzoneShouldShade(passed, setup.options.threshold)) {
-                stencil.drew(drawLightGeometry(setup, device, kKillzoneShadePass, shadeTargets, light, &ps, nullptr, stats));
+                shade(kKillzoneShadePass, light, ps);
                 count("light:", light);
                 stepDone(i, "shade");
             } else {
@@ -403,7 +428,6 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     for (const glm::vec3& p : setup->volumes.sphere().positions) setup->sphereVertices.push_back({p});
     for (const glm::vec3& p : setup->volumes.cone().positions) setup->coneVertices.push_back({p});
     setup->separateAccumulation = opt.floatTargets || opt.accumulateLighting;
-    setup->accumulationName = setup->separateAccumulation ? "accumulation" : std::string(kBackBufferName);
     // ScreenToViewParams: InverseProjection = glm::inverse(projection), ScreenDimensions = viewport.
     setup->inputs.inverseProjection = glm::inverse(setup->forward->clipFromView);
     setup->inputs.screenDimensions = glm::vec2(float(ctx.width), float(ctx.height));
@@ -413,7 +437,11 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 
     const Format colorFormat = opt.floatTargets ? Format::R32G32B32A32_FLOAT : Format::R8G8B8A8_UNORM;
     const Format depthFormat = opt.floatTargets ? Format::D32_FLOAT_S8X24_UINT : Format::D24_UNORM_S8_UINT;
-    const std::string back(kBackBufferName);
+    // With MSAA every buffer has `samples` samples and the image is resolved last (technique.h).
+    const std::uint32_t samples = ctx.sampleCount;
+    const bool msaa = samples > 1;
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
+    setup->accumulationName = setup->separateAccumulation ? "accumulation" : back;
     std::vector<std::string> gbufferTargets{setup->accumulationName, "gbuffer.diffuse", "gbuffer.specular", "gbuffer.normal"};
     if (opt.positionFromGBuffer) gbufferTargets.emplace_back("gbuffer.position");
     std::vector<std::string> lightTargets;
@@ -421,30 +449,36 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     else lightTargets = {setup->accumulationName};
     std::vector<std::string> created = gbufferTargets;
     if (setup->separateAccumulation) created.push_back(back);
-    if (ctx.precision == Precision::Reference) created.emplace_back(kReferenceBufferName);
+    if (ctx.precision == Precision::Reference) created.push_back(backReference);
     if (opt.accumulateLighting) created.insert(created.end(), lightTargets.begin(), lightTargets.end());
     created.emplace_back("depth");
     if (method == Method::Killzone) created.emplace_back("killzone.samples");
+    if (msaa) {
+        created.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        created.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+        created.emplace_back(gbuffer_detail::kEdgesBuffer);
+    }
 
     Frame frame;
-    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
+    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat, samples, back, backReference](BufferRegistry& reg) {
                    const DeferredOptions& o = setup->options;
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
                    if (setup->forward->precision == Precision::Reference)
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    if (setup->separateAccumulation)
-                       reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create("accumulation", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    if (o.positionFromGBuffer)
-                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    if (o.accumulateLighting) {
-                       reg.create("light.diffuse", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
-                       reg.create("light.specular", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                       reg.create("light.diffuse", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(glm::vec4(0.0f));
+                       reg.create("light.specular", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(glm::vec4(0.0f));
                    }
-                   reg.create("depth", {w, h, depthFormat, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   reg.create("depth", {w, h, depthFormat, samples}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (samples > 1) gbuffer_detail::createEdgeTargets(reg, w, h, samples);
                    if (setup->method == Method::Killzone) {
                        const std::uint32_t n = std::uint32_t(std::max<std::size_t>(setup->lightsWorld.size(), 1));
                        reg.create("killzone.samples", {std::min(n, kSamplesRow), (n + kSamplesRow - 1) / kSamplesRow,
@@ -460,7 +494,12 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 
     std::vector<std::string> gbufferWrites = gbufferTargets;
     gbufferWrites.emplace_back("depth");
-    frame.add({"gbuffer", gbufferWrites, gbufferWrites, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    std::vector<std::string> gbufferOut = gbufferWrites;
+    if (msaa) {
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+    }
+    frame.add({"gbuffer", gbufferWrites, gbufferOut, [setup, device, stats, variantCounts, res, msaa](BufferRegistry& reg) {
                    const DeferredOptions& o = setup->options;
                    RenderTargets rt;
                    rt.colors[0] = &reg.get(setup->accumulationName);
@@ -468,10 +507,12 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    rt.colors[2] = &reg.get("gbuffer.specular");
                    rt.colors[3] = &reg.get("gbuffer.normal");
                    if (o.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
+                   if (msaa) gbuffer_detail::bindEdgeTargets(rt, reg, o.positionFromGBuffer ? 5 : 4);
                    rt.depthStencil = &reg.get("depth");
-                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, o.floatTargets, o.accumulateLighting, stats,
-                                       variantCounts);
+                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, o.floatTargets, o.accumulateLighting, o.positionFromGBuffer,
+                                       stats, variantCounts);
                }});
+    if (msaa) frame.add(gbuffer_detail::edgePass(device, stats, opt.edges));
 
     // CopyTexturePass(depthStencilBuffer, depthStencilTexture): the lighting PS's DepthTextureVS.
     frame.add({"copy depth", {"depth"}, {"depth.copy"}, [](BufferRegistry& reg) {
@@ -508,37 +549,50 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     if (setup->separateAccumulation) {
         // The accumulation target to the back buffer as the output merger converts a PS value
         // to R8G8B8A8_UNORM (storeAsUnorm); precision reference also keeps the clamped float values.
-        frame.add({"present", {"accumulation"}, withReferenceBuffer({back}, ctx.precision), [reference](BufferRegistry& reg) {
+        std::vector<std::string> presented = withReferenceBuffer({back}, ctx.precision);
+        if (reference) presented[1] = backReference;
+        frame.add({"present", {"accumulation"}, presented, [reference, back, backReference](BufferRegistry& reg) {
                        const Surface& accumulation = reg.get("accumulation");
-                       storeAsUnorm(accumulation, reg.get(kBackBufferName));
-                       if (reference) storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
+                       storeAsUnorm(accumulation, reg.get(back));
+                       if (reference) storeAsUnorm(accumulation, reg.get(backReference));
                    }});
     }
     if (opt.accumulateLighting) {
         // Forward's final expression on every pixel in front of the far plane (the directional
-        // quad's pixels), written to the back buffer without blending.
+        // quad's pixels), written to the back buffer without blending; with MSAA per pixel where
+        // the edge bit is clear and per sample where it is set.
         std::vector<std::string> composeReads{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "light.diffuse",
                                               "light.specular", "depth", back};
+        std::vector<std::string> composed{back};
+        if (reference) {
+            composeReads.push_back(backReference);
+            composed.push_back(backReference);
+        }
         // Precision reference composes into the float buffer and quantizes it afterwards.
-        frame.add({"compose", withReferenceBuffer(composeReads, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-                   [setup, device, stats, reference](BufferRegistry& reg) {
+        frame.add({"compose", composeReads, composed, [setup, device, stats, reference, back, backReference, msaa](BufferRegistry& reg) {
                        LightingInputs& in = setup->inputs;
                        in.accumulation = TargetReader(reg.get("accumulation"));
                        in.lightDiffuse = TargetReader(reg.get("light.diffuse"));
                        in.lightSpecular = TargetReader(reg.get("light.specular"));
                        RenderTargets rt;
-                       rt.colors[0] = &reg.get(reference ? kReferenceBufferName : kBackBufferName);
+                       rt.colors[0] = &reg.get(reference ? backReference : back);
                        rt.depthStencil = &reg.get("depth");
                        PassState pass = kDeferredDirectionalPass;
                        pass.blend = BlendState{};
                        Light quad;
                        quad.type = LightType::Directional;
                        const ComposePS ps{&setup->inputs};
-                       drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
+                       if (!msaa) {
+                           drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
+                       } else {
+                           drawLightGeometry(*setup, *device, gbuffer_detail::withEdgeTest(pass, false), rt, quad, &ps, nullptr, stats);
+                           const gbuffer_detail::PerSample<ComposePS> perSample{ps};
+                           drawLightGeometry(*setup, *device, gbuffer_detail::withEdgeTest(pass, true), rt, quad, &perSample, nullptr, stats);
+                       }
                        if (reference) {
-                           Surface& composed = reg.get(kReferenceBufferName);
-                           storeAsUnorm(composed, composed);
-                           storeAsUnorm(composed, reg.get(kBackBufferName));
+                           Surface& composedRef = reg.get(backReference);
+                           storeAsUnorm(composedRef, composedRef);
+                           storeAsUnorm(composedRef, reg.get(back));
                        }
                    }});
     }
@@ -546,26 +600,31 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     // The demo's TransparentPass with g_pTransparentPipeline, as forward's (3dgep article §3.4:
     // "identical to the forward rendering technique"), over the back buffer and the G-buffer's depth.
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
+    if (msaa) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
 }
 
 } // namespace
 
 void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const SceneResources& res, const RenderTargets& rt,
-                         bool floatTargets, bool forwardAlpha, DrawStats* stats,
+                         bool floatTargets, bool forwardAlpha, bool positionTarget, DrawStats* stats,
                          std::map<std::string, std::uint64_t>* variantCounts) {
     // g_pGeometryPipeline: depth LESS with writes, cull back (as forward's opaque pass, with its
     // glTF additions: doubleSided culls none, mirrored transforms).
+    const std::uint32_t samples = rt.colors[0]->sampleCount();
     const auto configure = [&](auto& ps) {
         ps.floatTargets = floatTargets;
         ps.forwardAlpha = forwardAlpha;
+        ps.opacity = ps.data->opacity;
+        ps.sampleCount = samples;
     };
-    if (rt.colors[4] != nullptr)  // position gbuffer: RT4 holds the view position
-        gbuffer_detail::drawOpaqueGBuffer<GBufferPS5>(fwd, device, res, rt, kDeferredGBufferPass, "gbuffer", configure, stats,
-                                                      variantCounts);
-    else
-        gbuffer_detail::drawOpaqueGBuffer<GBufferPS4>(fwd, device, res, rt, kDeferredGBufferPass, "gbuffer", configure, stats,
-                                                      variantCounts);
+    const auto draw = [&]<template <bool> class PS>() {
+        gbuffer_detail::drawOpaqueGBuffer<PS>(fwd, device, res, rt, kDeferredGBufferPass, "gbuffer", configure, stats, variantCounts);
+    };
+    if (samples > 1 && positionTarget) draw.template operator()<GBufferMsaaPS5>();
+    else if (samples > 1) draw.template operator()<GBufferMsaaPS4>();
+    else if (positionTarget) draw.template operator()<GBufferPS5>();  // RT4 holds the view position
+    else draw.template operator()<GBufferPS4>();
 }
 
 Frame buildDeferred(const TechniqueContext& context) { return buildDeferredFrame(context, Method::Dgep); }

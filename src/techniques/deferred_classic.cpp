@@ -18,6 +18,7 @@
 #include <tessera/techniques/technique_options.h>
 
 #include "gbuffer_pass.h"
+#include "msaa_deferred.h"
 
 namespace tessera {
 namespace {
@@ -33,6 +34,7 @@ struct ClassicOptions {
     bool safeNormals = false;   // normalEncoding safe
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
+    EdgeDetector edges = EdgeDetector::Coverage;  // MSAA: Listing 11.17's coverage flag
 };
 
 ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
@@ -47,25 +49,17 @@ ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file
     o.safeNormals = optionEnum(j, "normalEncoding", {"printed", "safe"}, "printed", file) == "safe";
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
+    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::Coverage, file);
     return o;
 }
 
 // Listing 11.1's PS: (normalize(NormalWS), 1), (albedo, 1), (SpecularAlbedo, SpecularPower),
 // (PositionWS, 1), from the Phong gather (world = the rigid view's inverse of view space).
-template <bool kDiscard>
-struct ClassicGBufferPS {
-    using Varyings = PhongVaryings;
+struct ClassicEncoder {
     static constexpr int kTargetCount = 4;
-    static constexpr bool kMayDiscard = kDiscard;
-    PhongGatherFn gather = nullptr;
-    const PhongShaderData<float>* data = nullptr;
     glm::mat4 worldFromView{1.0f};
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<4>& out) const {
-        PhongSurface<float> s;
-        if (!gather(*data, in, s)) {
-            out.discard();
-            return;
-        }
+    template <class Out>
+    void encode(const PhongSurface<float>& s, const PixelInput<PhongVaryings>& in, Out& out) const {
         const glm::vec3 normalWorld = hlsl::normalize(glm::mat3(worldFromView) * glm::vec3(s.normalView));
         out.target[0] = glm::vec4(normalWorld, 1.0f);
         out.target[1] = glm::vec4(glm::vec3(s.diffuse), 1.0f);
@@ -78,20 +72,11 @@ struct ClassicGBufferPS {
 // normal (left-handed) through Listing 11.8's sphere map, RT1 R10G10B10A2_UNORM the diffuse albedo,
 // RT2 R8G8B8A8_UNORM the specular albedo with the power / 255 in alpha; the position comes from
 // the depth buffer. 16 B/px with depth.
-template <bool kDiscard>
-struct OptimizedGBufferPS {
-    using Varyings = PhongVaryings;
+struct OptimizedEncoder {
     static constexpr int kTargetCount = 3;
-    static constexpr bool kMayDiscard = kDiscard;
-    PhongGatherFn gather = nullptr;
-    const PhongShaderData<float>* data = nullptr;
     bool safeNormals = false;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<3>& out) const {
-        PhongSurface<float> s;
-        if (!gather(*data, in, s)) {
-            out.discard();
-            return;
-        }
+    template <class Out>
+    void encode(const PhongSurface<float>& s, const PixelInput<PhongVaryings>&, Out& out) const {
         const glm::vec3 nRh = hlsl::normalize(glm::vec3(s.normalView));
         const glm::vec3 nLh(nRh.x, nRh.y, -nRh.z);
         const glm::vec2 e = safeNormals ? prcSpheremapEncodeSafe(nLh) : prcSpheremapEncode(nLh);
@@ -102,24 +87,22 @@ struct OptimizedGBufferPS {
 };
 
 // Listing 11.4's PS (light pre-pass): (normalize(NormalWS), SpecularPower), (PositionWS, 1).
-template <bool kDiscard>
-struct LppGBufferPS {
-    using Varyings = PhongVaryings;
+struct LppEncoder {
     static constexpr int kTargetCount = 2;
-    static constexpr bool kMayDiscard = kDiscard;
-    PhongGatherFn gather = nullptr;
-    const PhongShaderData<float>* data = nullptr;
     glm::mat4 worldFromView{1.0f};
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<2>& out) const {
-        PhongSurface<float> s;
-        if (!gather(*data, in, s)) {
-            out.discard();
-            return;
-        }
+    template <class Out>
+    void encode(const PhongSurface<float>& s, const PixelInput<PhongVaryings>& in, Out& out) const {
         out.target[0] = glm::vec4(hlsl::normalize(glm::mat3(worldFromView) * glm::vec3(s.normalView)), s.specularPower);
         out.target[1] = glm::vec4(glm::vec3(worldFromView * glm::vec4(in.varyings.posView, 1.0f)), 1.0f);
     }
 };
+
+template <bool D> using ClassicGBufferPS = gbuffer_detail::GBufferShader<ClassicEncoder, D>;
+template <bool D> using ClassicGBufferMsaaPS = gbuffer_detail::GBufferShader<ClassicEncoder, D, true>;
+template <bool D> using OptimizedGBufferPS = gbuffer_detail::GBufferShader<OptimizedEncoder, D>;
+template <bool D> using OptimizedGBufferMsaaPS = gbuffer_detail::GBufferShader<OptimizedEncoder, D, true>;
+template <bool D> using LppGBufferPS = gbuffer_detail::GBufferShader<LppEncoder, D>;
+template <bool D> using LppGBufferMsaaPS = gbuffer_detail::GBufferShader<LppEncoder, D, true>;
 
 // Listing 11.6's PS, the second geometry pass: the light buffer at the pixel times the material's
 // diffuse texel, plus its monochrome specular times SpecularAlbedo. T = double: the reference
@@ -132,14 +115,31 @@ struct LppFinalPS {
     PhongGatherFn gather = nullptr;
     const PhongShaderData<float>* data = nullptr;
     const TargetReader* lightBuffer = nullptr;
+    std::uint32_t sampleCount = 1;
     void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargetCount>& out) const {
         PhongSurface<float> s;
         if (!gather(*data, in, s)) {
             out.discard();
             return;
         }
-        const glm::vec4 lighting = lightBuffer->load(std::uint32_t(in.posWindow.x), std::uint32_t(in.posWindow.y));
-        const Vec3<T> color = prcLightPrePassFinal(Vec4<T>(lighting), Vec3<T>(glm::vec3(s.diffuse)), Vec3<T>(glm::vec3(s.specular)));
+        const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
+        Vec3<T> color;
+        if (sampleCount == 1) {
+            const glm::vec4 lighting = lightBuffer->load(x, y);
+            color = prcLightPrePassFinal(Vec4<T>(lighting), Vec3<T>(glm::vec3(s.diffuse)), Vec3<T>(glm::vec3(s.specular)));
+        } else {
+            // MSAA (§11.5, Listing 11.19's loop): the light buffer's covered samples summed, the
+            // albedos applied to the sums (Listing 11.6's combination; 11.19's own 1/pi and 0.7 are
+            // that listing's stand-ins for material values), divided by the samples applied.
+            Vec4<T> sum(T(0));
+            T applied = T(0);
+            for (std::uint32_t i = 0; i < sampleCount; ++i)
+                if (in.coverage & (1u << i)) {
+                    sum += Vec4<T>(lightBuffer->load(x, y, i));
+                    applied += T(1);
+                }
+            color = prcLightPrePassFinal(sum, Vec3<T>(glm::vec3(s.diffuse)), Vec3<T>(glm::vec3(s.specular))) / applied;
+        }
         out.target[0] = glm::vec4(glm::vec3(color), 1.0f);
         if constexpr (kTargetCount == 2) out.target[1] = convert::clampUnorm(out.target[0]);
     }
@@ -182,8 +182,11 @@ struct ClassicLightPS {
     std::uint32_t lightIndex = 0;
     void operator()(const PixelInput<NoVaryings>& in, PixelOutput<1>& out) const {
         const ClassicShared& g = *shared;
+        // Texture2DMS.Load(int2(screenPos.xy), i) (§11.5): the shader's sample, 0 when it runs per
+        // pixel; SV_Position is the sample's position when it runs per sample.
         const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
-        const glm::vec4 normalStored = g.normal.load(x, y);
+        const std::uint32_t i = in.sampleIndex;
+        const glm::vec4 normalStored = g.normal.load(x, y, i);
         Vec3<T> normal{glm::vec3(normalStored)};
         Vec3<T> position;
         if (g.optimized) {
@@ -192,12 +195,12 @@ struct ClassicLightPS {
             // view ray (x_ndc / P00, y_ndc / P11, 1)).
             const glm::vec2 e(normalStored);
             normal = Vec3<T>(glm::mat3(g.worldFromViewLh) * (g.safeNormals ? prcSpheremapDecodeSafe(e) : prcSpheremapDecode(e)));
-            const float linearDepth = prcLinearDepth(g.depth->loadDepth(x, y), g.ab);
+            const float linearDepth = prcLinearDepth(g.depth->loadDepth(x, y, i), g.ab);
             const glm::vec2 ndc(in.posWindow.x / g.screenPx.x * 2.0f - 1.0f, 1.0f - in.posWindow.y / g.screenPx.y * 2.0f);
             const glm::vec3 viewRay(ndc.x / g.proj00, ndc.y / g.proj11, 1.0f);
             position = Vec3<T>(glm::vec3(g.worldFromViewLh * glm::vec4(viewRay * linearDepth, 1.0f)));
         } else {
-            position = Vec3<T>(glm::vec3(g.position.load(x, y)));
+            position = Vec3<T>(glm::vec3(g.position.load(x, y, i)));
         }
         Vec3<T> lighting;
         if (g.lightPrePass) {  // Listing 11.5: float4(diffuse light, monochrome specular)
@@ -205,8 +208,8 @@ struct ClassicLightPS {
             lighting = Vec3<T>(texel);
             out.target[0] = glm::vec4(texel);
         } else {
-            const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y)));
-            const glm::vec4 spec = g.specular.load(x, y);
+            const Vec3<T> diffuse(glm::vec3(g.diffuse.load(x, y, i)));
+            const glm::vec4 spec = g.specular.load(x, y, i);
             const T power = g.optimized ? T(spec.w * 255.0f) : T(spec.w);
             lighting = prcClassicLighting<T>(*light, normal, position, diffuse, Vec3<T>(glm::vec3(spec)), power, Vec3<T>(g.cameraWorld),
                                              g.normalizeV);
@@ -341,13 +344,8 @@ void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, S
     const ForwardPassSetup& fwd = *setup.forward;
     const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
     Surface& depth = reg.get("depth");
+    const bool msaa = fwd.sampleCount > 1;
     for (const ClassicDraw& d : setup.draws) {
-        DrawState st = makeDrawState(d.pass, viewport);
-        st.precision = fwd.precision;
-        if (d.scissor) {
-            st.rasterizer.scissorEnable = true;
-            st.scissor = d.rect;
-        }
         RenderTargets rt;
         rt.colors[0] = &target;
         rt.depthStencil = &depth;
@@ -356,8 +354,22 @@ void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, S
         if constexpr (std::is_same_v<T, double>) ps.light = &d.lightReference;
         else ps.light = &d.lightExact;
         ps.lightIndex = d.index;
-        DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, ps);
-        if (stats) *stats += s;
+        const auto drawWith = [&](const PassState& pass, const auto& shader) {
+            DrawState st = makeDrawState(pass, viewport);
+            st.precision = fwd.precision;
+            if (d.scissor) {
+                st.rasterizer.scissorEnable = true;
+                st.scissor = d.rect;
+            }
+            DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, shader);
+            if (stats) *stats += s;
+        };
+        if (!msaa) {
+            drawWith(d.pass, ps);
+        } else {  // §11.5: one sample where the samples agree, every sample at edge pixels
+            drawWith(gbuffer_detail::withEdgeTest(d.pass, false), ps);
+            drawWith(gbuffer_detail::withEdgeTest(d.pass, true), gbuffer_detail::PerSample<ClassicLightPS<T>>{ps});
+        }
         if (variantCounts) ++(*variantCounts)["classic-light"];
         if (setup.afterLightStep) setup.afterLightStep(d.index, "shade", reg);
     }
@@ -389,7 +401,11 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera);
 
     const bool reference = ctx.precision == Precision::Reference;
-    const std::string back(kBackBufferName);
+    const std::uint32_t samples = ctx.sampleCount;
+    const bool msaa = samples > 1;
+    // With MSAA every buffer has `samples` samples, the image is drawn into "backbuffer.msaa" and
+    // the last pass resolves it (technique.h).
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     // Classic: Listing 11.1's four targets; light pre-pass: Listing 11.4's two (normal + power, position).
     const std::vector<std::string> targets =
         lightPrePass ? std::vector<std::string>{"gbuffer.normal", "gbuffer.position"}
@@ -397,31 +413,39 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                      : std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"};
     std::vector<std::string> gbuffer = targets;
     gbuffer.emplace_back("depth");
-    std::vector<std::string> created = gbuffer;
+    std::vector<std::string> gbufferWrites = gbuffer;
+    if (msaa) {
+        gbufferWrites.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        gbufferWrites.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+    }
+    std::vector<std::string> created = gbufferWrites;
+    if (msaa) created.emplace_back(gbuffer_detail::kEdgesBuffer);
     created.push_back(back);
     if (lightPrePass) created.emplace_back("lightbuffer");
     const bool accumulation = reference && !lightPrePass;
     if (accumulation) created.emplace_back("accumulation");
-    if (reference) created.emplace_back(kReferenceBufferName);
+    if (reference) created.push_back(backReference);
     Frame frame;
-    frame.add({"clear", {}, created, [setup, targets, reference, accumulation, lightPrePass, optimized](BufferRegistry& reg) {
+    frame.add({"clear", {}, created,
+               [setup, targets, reference, accumulation, lightPrePass, optimized, samples, back, backReference](BufferRegistry& reg) {
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
                    const glm::vec4 black(0.0f, 0.0f, 0.0f, 1.0f);  // the lights' sum starts from nothing
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(black);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(black);
                    const Format optimizedFormats[] = {Format::R16G16_SNORM, Format::R10G10B10A2_UNORM, Format::R8G8B8A8_UNORM};
                    for (std::size_t k = 0; k < targets.size(); ++k)
-                       reg.create(targets[k], {w, h, optimized ? optimizedFormats[k] : Format::R32G32B32A32_FLOAT, 1})
+                       reg.create(targets[k], {w, h, optimized ? optimizedFormats[k] : Format::R32G32B32A32_FLOAT, samples})
                            .clearColor(glm::vec4(0.0f));
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
-                   if (lightPrePass) reg.create("lightbuffer", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(glm::vec4(0.0f));
-                   if (accumulation) reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
-                   if (reference) reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(black);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, samples}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (samples > 1) gbuffer_detail::createEdgeTargets(reg, w, h, samples);
+                   if (lightPrePass) reg.create("lightbuffer", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(glm::vec4(0.0f));
+                   if (accumulation) reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(black);
+                   if (reference) reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(black);
                }});
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res, lightPrePass, optimized](BufferRegistry& reg) {
+    frame.add({"gbuffer", gbuffer, gbufferWrites, [setup, device, stats, variantCounts, res, lightPrePass, optimized, samples](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.normal");
                    if (lightPrePass) {
@@ -435,18 +459,27 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    PassState pass;
                    pass.depthStencil.depthFunc = ComparisonFunc::Less;
                    if (setup->options.stencil) gbuffer_detail::stencilReplaceOne(pass);  // the lit-geometry mask
-                   const auto configure = [&](auto& ps) { ps.worldFromView = setup->worldFromView; };
-                   if (lightPrePass)
-                       gbuffer_detail::drawOpaqueGBuffer<LppGBufferPS>(*setup->forward, *device, *res, rt, pass, "lpp-gbuffer",
-                                                                       configure, stats, variantCounts);
+                   const ForwardPassSetup& f = *setup->forward;
+                   const auto configure = [&](auto& ps) {
+                       ps.sampleCount = samples;
+                       if constexpr (requires { ps.worldFromView; }) ps.worldFromView = setup->worldFromView;
+                       if constexpr (requires { ps.safeNormals; }) ps.safeNormals = setup->options.safeNormals;
+                   };
+                   // With MSAA the layout's targets are followed by the edge detectors' two.
+                   const auto draw = [&]<template <bool> class PS, template <bool> class MsaaPS>(int layoutTargets, const char* name) {
+                       if (samples == 1) {
+                           gbuffer_detail::drawOpaqueGBuffer<PS>(f, *device, *res, rt, pass, name, configure, stats, variantCounts);
+                       } else {
+                           gbuffer_detail::bindEdgeTargets(rt, reg, layoutTargets);
+                           gbuffer_detail::drawOpaqueGBuffer<MsaaPS>(f, *device, *res, rt, pass, name, configure, stats, variantCounts);
+                       }
+                   };
+                   if (lightPrePass) draw.template operator()<LppGBufferPS, LppGBufferMsaaPS>(2, "lpp-gbuffer");
                    else if (optimized)
-                       gbuffer_detail::drawOpaqueGBuffer<OptimizedGBufferPS>(
-                           *setup->forward, *device, *res, rt, pass, "classic-gbuffer-optimized",
-                           [&](auto& ps) { ps.safeNormals = setup->options.safeNormals; }, stats, variantCounts);
-                   else
-                       gbuffer_detail::drawOpaqueGBuffer<ClassicGBufferPS>(*setup->forward, *device, *res, rt, pass,
-                                                                           "classic-gbuffer", configure, stats, variantCounts);
+                       draw.template operator()<OptimizedGBufferPS, OptimizedGBufferMsaaPS>(3, "classic-gbuffer-optimized");
+                   else draw.template operator()<ClassicGBufferPS, ClassicGBufferMsaaPS>(4, "classic-gbuffer");
                }});
+    if (msaa) frame.add(gbuffer_detail::edgePass(device, stats, opt.edges));
     const std::string lightTarget = lightPrePass ? "lightbuffer" : accumulation ? "accumulation" : back;
     std::vector<std::string> lightReads = gbuffer;
     lightReads.push_back(lightTarget);
@@ -467,17 +500,25 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     if (lightPrePass) {
         // The second geometry pass (§11.3): the opaque geometry again, LESS_EQUAL against its own
         // depth without writes, each pixel reading the light buffer.
-        frame.add({"final", withReferenceBuffer({back, "lightbuffer", "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-                   [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
+        std::vector<std::string> finalTargets = withReferenceBuffer({back}, ctx.precision);
+        if (reference) finalTargets[1] = backReference;
+        std::vector<std::string> finalReads = finalTargets;
+        finalReads.emplace_back("lightbuffer");
+        finalReads.emplace_back("depth");
+        frame.add({"final", finalReads, finalTargets,
+                   [setup, device, stats, variantCounts, res, reference, back, backReference, samples](BufferRegistry& reg) {
                        RenderTargets rt;
-                       rt.colors[0] = &reg.get(kBackBufferName);
-                       if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+                       rt.colors[0] = &reg.get(back);
+                       if (reference) rt.colors[1] = &reg.get(backReference);
                        rt.depthStencil = &reg.get("depth");
                        PassState pass;
                        pass.depthStencil.depthFunc = ComparisonFunc::LessEqual;
                        pass.depthStencil.depthWriteEnable = false;
                        const TargetReader lightBuffer(reg.get("lightbuffer"));
-                       const auto configure = [&](auto& ps) { ps.lightBuffer = &lightBuffer; };
+                       const auto configure = [&](auto& ps) {
+                           ps.lightBuffer = &lightBuffer;
+                           ps.sampleCount = samples;
+                       };
                        if (reference)
                            gbuffer_detail::drawOpaqueGBuffer<LppFinalReferencePS>(*setup->forward, *device, *res, rt, pass,
                                                                                   "lpp-final", configure, stats, variantCounts);
@@ -486,9 +527,10 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                                                                               configure, stats, variantCounts);
                    }});
     } else if (reference) {
-        frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision));
+        frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision, samples));
     }
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
+    if (msaa) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
 }
 

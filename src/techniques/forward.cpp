@@ -77,6 +77,7 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     auto setup = std::make_shared<ForwardPassSetup>();
     setup->width = ctx.width;
     setup->height = ctx.height;
+    setup->sampleCount = ctx.sampleCount;
     setup->alphaTest = alphaTest;
     setup->precision = ctx.precision;
     setup->viewFromWorld = ctx.camera.viewFromWorld();
@@ -133,28 +134,31 @@ Frame buildForward(const TechniqueContext& ctx) {
                              sampler == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo, alphaTest);
 
     const bool reference = ctx.precision == Precision::Reference;
+    const std::uint32_t samples = ctx.sampleCount;
     Frame frame;
-    const std::vector<std::string> colorBuffers = withReferenceBuffer({std::string(kBackBufferName)}, ctx.precision);
+    // With MSAA every target has `samples` samples and the last pass resolves the image.
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
+    const std::vector<std::string> colorBuffers =
+        withBackBufferTargets(withReferenceBuffer({std::string(kBackBufferName)}, ctx.precision), samples);
     std::vector<std::string> allBuffers = colorBuffers;
     allBuffers.emplace_back("depth");
 
-    frame.add({"clear", {}, allBuffers, [setup, reference](BufferRegistry& reg) {
+    frame.add({"clear", {}, allBuffers, [setup, reference, back, backReference, samples](BufferRegistry& reg) {
                    const std::uint32_t w = setup->width, h = setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
-                   if (reference)
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
+                   if (reference) reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, samples}).clearDepthStencil(true, 1.0f, true, 0);
                }});
 
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    const auto drawPass = [setup, device, stats, variantCounts, res, reference](bool transparentPass) {
-        return [setup, device, stats, variantCounts, res, reference, transparentPass](BufferRegistry& reg) {
+    const auto drawPass = [setup, device, stats, variantCounts, res, reference, back, backReference](bool transparentPass) {
+        return [setup, device, stats, variantCounts, res, reference, transparentPass, back, backReference](BufferRegistry& reg) {
             RenderTargets rt;
-            rt.colors[0] = &reg.get(kBackBufferName);
-            if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+            rt.colors[0] = &reg.get(back);
+            if (reference) rt.colors[1] = &reg.get(backReference);
             rt.depthStencil = &reg.get("depth");
             drawForwardPass(*setup, *device, *res, rt, transparentPass, stats, variantCounts);
         };
@@ -162,6 +166,7 @@ Frame buildForward(const TechniqueContext& ctx) {
     std::vector<std::string> drawReads = allBuffers;
     frame.add({"opaque", drawReads, allBuffers, drawPass(false)});
     frame.add({"transparent", drawReads, colorBuffers, drawPass(true)});
+    if (samples > 1) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
 }
 

@@ -70,29 +70,33 @@ inline void stencilEqualOne(PassState& p) {
 }
 
 // Precision reference: the float "accumulation" to the back buffer as an UNORM target stores a PS
-// value, and clamped to the reference buffer.
-inline Pass presentAccumulationPass(Precision precision) {
-    const std::string back(kBackBufferName);
-    return {"present", {"accumulation"}, withReferenceBuffer({back}, precision), [](BufferRegistry& reg) {
+// value, and clamped to the reference buffer (every sample; with MSAA the ".msaa" targets).
+inline Pass presentAccumulationPass(Precision precision, std::uint32_t sampleCount = 1) {
+    const std::string back = backBufferTarget(sampleCount), backReference = referenceBufferTarget(sampleCount);
+    return {"present", {"accumulation"}, withBackBufferTargets(withReferenceBuffer({std::string(kBackBufferName)}, precision), sampleCount),
+            [back, backReference](BufferRegistry& reg) {
                 const Surface& accumulation = reg.get("accumulation");
-                storeAsUnorm(accumulation, reg.get(kBackBufferName));
-                storeAsUnorm(accumulation, reg.get(kReferenceBufferName));
+                storeAsUnorm(accumulation, reg.get(back));
+                storeAsUnorm(accumulation, reg.get(backReference));
             }};
 }
 
-// Forward's transparent pass over the back buffer (and the reference copy) with the technique's depth.
+// Forward's transparent pass over the back buffer (and the reference copy) with the technique's
+// depth; with MSAA over their multisampled targets.
 inline Pass forwardTransparentPass(std::shared_ptr<const ForwardPassSetup> setup, const TechniqueContext& ctx) {
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
     const bool reference = ctx.precision == Precision::Reference;
-    const std::string back(kBackBufferName);
-    return {"transparent", withReferenceBuffer({back, "depth"}, ctx.precision), withReferenceBuffer({back}, ctx.precision),
-            [setup, device, stats, variantCounts, res, reference](BufferRegistry& reg) {
+    const std::string back = backBufferTarget(ctx.sampleCount), backReference = referenceBufferTarget(ctx.sampleCount);
+    const std::vector<std::string> colors = withBackBufferTargets(withReferenceBuffer({std::string(kBackBufferName)}, ctx.precision), ctx.sampleCount);
+    std::vector<std::string> reads = colors;
+    reads.emplace_back("depth");
+    return {"transparent", reads, colors, [setup, device, stats, variantCounts, res, reference, back, backReference](BufferRegistry& reg) {
                 RenderTargets rt;
-                rt.colors[0] = &reg.get(kBackBufferName);
-                if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+                rt.colors[0] = &reg.get(back);
+                if (reference) rt.colors[1] = &reg.get(backReference);
                 rt.depthStencil = &reg.get("depth");
                 drawForwardPass(*setup, *device, *res, rt, true, stats, variantCounts);
             }};

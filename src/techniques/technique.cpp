@@ -25,11 +25,11 @@ const std::array<TechniqueInfo, 10> kTechniques{{
     {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
      kNoOptions},
     {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (van Oosten 2015)",
-     &buildForward, kForwardOptionKeys, TexturePolicy::AllLinear},
+     &buildForward, kForwardOptionKeys, TexturePolicy::AllLinear, true},
     {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward",
-     "3dgep (van Oosten 2015)", &buildDeferred, kDeferredOptionKeys, TexturePolicy::AllLinear},
+     "3dgep (van Oosten 2015)", &buildDeferred, kDeferredOptionKeys, TexturePolicy::AllLinear, true},
     {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (van Oosten 2015)",
-     &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear},
+     &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear, true},
     {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid",
      "3dgep (van Oosten 2015)", &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear},
     {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
@@ -41,10 +41,11 @@ const std::array<TechniqueInfo, 10> kTechniques{{
      "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, kDeferredCookbookOptionKeys,
      TexturePolicy::AllLinear},
     {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
-     "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear},
+     "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear,
+     true},
     {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
      "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kLightPrePassOptionKeys,
-     TexturePolicy::AllLinear},
+     TexturePolicy::AllLinear, true},
 }};
 
 } // namespace
@@ -83,6 +84,7 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
             if (!known) throw inputError(sceneFile, "/options/" + key, "technique '" + std::string(id) + "' has no option '" + key + "'");
         }
     }
+    checkSampleCount(*t, context.sampleCount, sceneFile);
     return t->build(context);
 }
 
@@ -94,7 +96,48 @@ std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Pre
 
 void storeAsUnorm(const Surface& from, Surface& to) {
     for (std::uint32_t y = 0; y < to.height(); ++y)
-        for (std::uint32_t x = 0; x < to.width(); ++x) to.store(x, y, 0, convert::clampUnorm(from.load(x, y)));
+        for (std::uint32_t x = 0; x < to.width(); ++x)
+            for (std::uint32_t s = 0; s < to.sampleCount(); ++s) to.store(x, y, s, convert::clampUnorm(from.load(x, y, s)));
+}
+
+std::string backBufferTarget(std::uint32_t sampleCount) {
+    return sampleCount > 1 ? std::string(kBackBufferName) + ".msaa" : std::string(kBackBufferName);
+}
+
+std::string referenceBufferTarget(std::uint32_t sampleCount) {
+    return sampleCount > 1 ? std::string(kReferenceBufferName) + ".msaa" : std::string(kReferenceBufferName);
+}
+
+std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, std::uint32_t sampleCount) {
+    for (std::string& n : names) {
+        if (n == kBackBufferName) n = backBufferTarget(sampleCount);
+        else if (n == kReferenceBufferName) n = referenceBufferTarget(sampleCount);
+    }
+    return names;
+}
+
+Pass resolveBackBufferPass(std::uint32_t sampleCount, Precision precision) {
+    const std::vector<std::string> resolved = withReferenceBuffer({std::string(kBackBufferName)}, precision);
+    return {"resolve", withBackBufferTargets(resolved, sampleCount), resolved, [sampleCount, precision](BufferRegistry& reg) {
+                Surface back = reg.get(backBufferTarget(sampleCount)).resolve(Format::R8G8B8A8_UNORM);
+                reg.create(std::string(kBackBufferName), back.desc()) = std::move(back);
+                if (precision == Precision::Reference) {
+                    Surface ref = reg.get(referenceBufferTarget(sampleCount)).resolve(Format::R32G32B32A32_FLOAT);
+                    reg.create(std::string(kReferenceBufferName), ref.desc()) = std::move(ref);
+                }
+            }};
+}
+
+void checkSampleCount(const TechniqueInfo& info, std::uint32_t sampleCount, const std::string& sceneFile) {
+    if (sampleCount != 1 && sampleCount != 2 && sampleCount != 4 && sampleCount != 8)
+        throw inputError(sceneFile, "/technique", "MSAA sample count " + std::to_string(sampleCount) + " is not 1, 2, 4 or 8");
+    if (sampleCount > 1 && !info.msaa) {
+        std::string ready;
+        for (const TechniqueInfo& k : kTechniques)
+            if (k.msaa) ready += (ready.empty() ? "" : ", ") + std::string(k.id);
+        throw inputError(sceneFile, "/technique",
+                         "technique '" + std::string(info.id) + "' does not render with MSAA yet (MSAA: " + ready + ")");
+    }
 }
 
 } // namespace tessera

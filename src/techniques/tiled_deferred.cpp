@@ -551,7 +551,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
                    if (setup->options.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
                    rt.depthStencil = &reg.get("depth");
                    // RT0 alpha = alpha * Opacity: forward's output alpha for the 3dgep compose.
-                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, stats, variantCounts);
+                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, false, stats, variantCounts);
                }});
 
     std::vector<std::string> tileReads = gbufferTargets;

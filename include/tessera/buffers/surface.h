@@ -59,11 +59,14 @@ public:
     // ClearUnorderedAccessViewUint equivalent for UINT formats.
     void clearUint(const glm::uvec4& value);
     // ClearDepthStencilView: depth converted to the format (D24 quantized), stencil as given.
-    void clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil);
+    // stencilWriteMask < 0xFF changes only those stencil bits: what a full-screen stencil REPLACE
+    // draw with that StencilWriteMask leaves (a D3D11 clear itself writes all eight).
+    void clearDepthStencil(bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil,
+                           std::uint8_t stencilWriteMask = 0xFF);
     // The same clear on the texels (all samples) of pixels x0 <= x < x1, y0 <= y < y1 only
     // (clamped to the surface), as D3D11.1's ClearView with a rectangle does.
     void clearDepthStencilRect(std::uint32_t x0, std::uint32_t y0, std::uint32_t x1, std::uint32_t y1, bool clearDepth,
-                               float depth, bool clearStencil, std::uint8_t stencil);
+                               float depth, bool clearStencil, std::uint8_t stencil, std::uint8_t stencilWriteMask = 0xFF);
 
     // ResolveSubresource for float-convertible formats: the average of the samples of each
     // pixel, accumulated in float in sample order, into a single-sample surface of `format`.

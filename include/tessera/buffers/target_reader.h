@@ -24,9 +24,10 @@ public:
             mUnorm8[c] = decodeTexel(Format::R8G8B8A8_UNORM, texel.data()).x;
         }
     }
-    // Sample 0 of texel (x, y); the caller keeps x, y inside the surface.
-    glm::vec4 load(std::uint32_t x, std::uint32_t y) const {
-        const std::byte* p = mSurface->texel(x, y);
+    // Sample `sample` of texel (x, y) (Texture2DMS.Load); the caller keeps x, y and the sample
+    // inside the surface.
+    glm::vec4 load(std::uint32_t x, std::uint32_t y, std::uint32_t sample = 0) const {
+        const std::byte* p = mSurface->texel(x, y, sample);
         if (mRgba8)
             return {mUnorm8[std::to_integer<unsigned>(p[0])], mUnorm8[std::to_integer<unsigned>(p[1])],
                     mUnorm8[std::to_integer<unsigned>(p[2])], mUnorm8[std::to_integer<unsigned>(p[3])]};
@@ -35,7 +36,7 @@ public:
             std::memcpy(&v[0], p, sizeof v);
             return v;
         }
-        return mSurface->load(x, y);
+        return mSurface->load(x, y, sample);
     }
 
 private:

@@ -45,11 +45,11 @@ namespace tessera {
 // With projection d3d, gbuffer float, position gbuffer, accumulate lighting and circumscribed
 // volumes, the image equals forward's (projection d3d) bit for bit on opaque scenes whose light
 // volumes do not cross the near plane (tests/unit/deferred_test.cpp).
-inline constexpr std::array<std::string_view, 9> kDeferredOptionKeys{
-    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position", "accumulate", "sampler", "alphaTest"};
-inline constexpr std::array<std::string_view, 10> kKillzoneOptionKeys{
-    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer",
-    "position",   "accumulate",  "sampler",      "alphaTest",      "threshold"};
+inline constexpr std::array<std::string_view, 10> kDeferredOptionKeys{
+    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position", "accumulate", "sampler", "alphaTest", "msaaEdges"};
+inline constexpr std::array<std::string_view, 11> kKillzoneOptionKeys{
+    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position",
+    "accumulate", "sampler",     "alphaTest",    "threshold",      "msaaEdges"};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"       R8G8B8A8_UNORM: the image (the demo's RT0 with gbuffer demo)
@@ -80,8 +80,10 @@ struct ForwardPassSetup;
 // (ambient + emissive, with a = alpha * Opacity when forwardAlpha), colors[1] diffuse, colors[2] specular (a = log2(p) / 10.5, or p itself when
 // floatTargets), colors[3] view normal, colors[4] (optional, non-null) (posView, 1); the
 // depth-stencil target. Formats are the caller's (see "gbuffer" above).
+// positionTarget: colors[4] is bound. With multisampled targets the MSAA edge detectors' two
+// targets follow the layout's (src/techniques/msaa_deferred.h).
 void drawDeferredGBuffer(const ForwardPassSetup& forward, Device& device, const SceneResources& resources,
-                         const RenderTargets& targets, bool floatTargets, bool forwardAlpha, DrawStats* stats,
+                         const RenderTargets& targets, bool floatTargets, bool forwardAlpha, bool positionTarget, DrawStats* stats,
                          std::map<std::string, std::uint64_t>* variantCounts);
 
 // "killzone.samples" value of a light that has no count query.

@@ -36,11 +36,11 @@ namespace tessera {
 //       and whose decoder takes sqrt(1 - |e|^2) of SNORM codes that can round past |e| = 1 near
 //       z = -1, facing the camera: NaN, a black pixel (ERRATA #29); or the codec defined there.
 //   "sampler", "alphaTest": as forward (the transparent pass).
-inline constexpr std::array<std::string_view, 8> kDeferredClassicOptionKeys{
-    "lightGeometry", "viewVector", "scissorRound", "stencil", "gbuffer", "normalEncoding", "sampler", "alphaTest"};
+inline constexpr std::array<std::string_view, 9> kDeferredClassicOptionKeys{
+    "lightGeometry", "viewVector", "scissorRound", "stencil", "gbuffer", "normalEncoding", "sampler", "alphaTest", "msaaEdges"};
 // light-prepass: the same without "gbuffer" and "normalEncoding".
-inline constexpr std::array<std::string_view, 6> kLightPrePassOptionKeys{"lightGeometry", "viewVector", "scissorRound",
-                                                                         "stencil",       "sampler",    "alphaTest"};
+inline constexpr std::array<std::string_view, 7> kLightPrePassOptionKeys{
+    "lightGeometry", "viewVector", "scissorRound", "stencil", "sampler", "alphaTest", "msaaEdges"};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
 // ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"

@@ -57,6 +57,7 @@ glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConventi
 // lights (float for exact, double for reference).
 struct ForwardPassSetup {
     std::uint32_t width = 0, height = 0;   // px
+    std::uint32_t sampleCount = 1;         // MSAA samples per pixel of every target
     glm::mat4 viewFromWorld{1.0f};
     glm::mat4 clipFromView{1.0f};
     bool alphaTest = false;

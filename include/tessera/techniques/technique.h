@@ -25,6 +25,9 @@ struct TechniqueContext {
     const SceneResources* resources = nullptr;
     Camera camera;
     std::uint32_t width = 0, height = 0;       // render target size, px
+    // MSAA samples per pixel, 1, 2, 4 or 8 (D3D11's standard patterns, raster/sample_pattern.h);
+    // only techniques whose TechniqueInfo::msaa is true accept more than 1.
+    std::uint32_t sampleCount = 1;
     nlohmann::json options = nlohmann::json::object();  // the scene file's "options"
     Precision precision = Precision::Exact;
     DrawStats* stats = nullptr;                // accumulated over every draw of the frame
@@ -52,6 +55,8 @@ struct TechniqueInfo {
     std::span<const std::string_view> optionKeys;
     // How SceneResources should decode colour textures for this technique.
     TexturePolicy textures = TexturePolicy::Gltf;
+    // Renders with TechniqueContext::sampleCount > 1 (multisampled targets and a resolve).
+    bool msaa = false;
 };
 
 std::span<const TechniqueInfo> techniques();
@@ -74,6 +79,20 @@ inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
 // `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
 // inserted after the back buffer when `precision` is Reference.
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision);
+
+// The target a technique draws its image into: the back buffer itself, or with MSAA
+// "backbuffer.msaa" (N samples), which the frame's last pass resolves into the back buffer; and
+// the same for the precision reference's float copy ("backbuffer.reference.msaa").
+std::string backBufferTarget(std::uint32_t sampleCount);
+std::string referenceBufferTarget(std::uint32_t sampleCount);
+// `names` with every "backbuffer" and "backbuffer.reference" replaced by its target above.
+std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, std::uint32_t sampleCount);
+// The last pass of an MSAA frame: ResolveSubresource (D3D11.3 §5.8: the samples' average) of the
+// targets into the back buffer (R8G8B8A8_UNORM) and, with precision reference, its float copy.
+Pass resolveBackBufferPass(std::uint32_t sampleCount, Precision precision);
+// Throws InputError naming `sceneFile` and "/technique" when `info` cannot render `sampleCount`
+// samples per pixel (a technique without MSAA, or a count other than 1, 2, 4, 8).
+void checkSampleCount(const TechniqueInfo& info, std::uint32_t sampleCount, const std::string& sceneFile);
 
 // Writes a float target into `to` as the output merger converts a PS value for an UNORM target
 // without blending: NaN -> 0, clamp to [0, 1] (D3D11.3 §3.2.3.6), then `to`'s own encode (the

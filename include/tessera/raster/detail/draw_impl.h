@@ -928,6 +928,7 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
             stats.leanBlocks += c.leanBlocks;
         }
     });
+    if constexpr (detail::perSample<PS>()) stats.psPerSample = stats.psInvocations;
     if (query && query->active()) query->add(stats.samplesPassed);
     return stats;
 }
