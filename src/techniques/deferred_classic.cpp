@@ -35,6 +35,7 @@ struct ClassicOptions {
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
     EdgeDetector edges = EdgeDetector::Coverage;  // MSAA: Listing 11.17's coverage flag
+    bool finalPerSample = false;  // light-prepass MSAA final pass: per sample at edges (corrects Listing 11.19)
 };
 
 ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
@@ -50,6 +51,7 @@ ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
     o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::Coverage, file);
+    o.finalPerSample = optionEnum(j, "msaaFinal", {"coverage", "perSample"}, "coverage", file) == "perSample";
     return o;
 }
 
@@ -116,6 +118,7 @@ struct LppFinalPS {
     const PhongShaderData<float>* data = nullptr;
     const TargetReader* lightBuffer = nullptr;
     std::uint32_t sampleCount = 1;
+    bool coverageLoop = true;  // MSAA: Listing 11.19 (faithful); false: one sample per invocation
     void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargetCount>& out) const {
         PhongSurface<float> s;
         if (!gather(*data, in, s)) {
@@ -124,8 +127,8 @@ struct LppFinalPS {
         }
         const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
         Vec3<T> color;
-        if (sampleCount == 1) {
-            const glm::vec4 lighting = lightBuffer->load(x, y);
+        if (sampleCount == 1 || !coverageLoop) {  // one sample: the shader's (0 when it runs per pixel)
+            const glm::vec4 lighting = lightBuffer->load(x, y, in.sampleIndex);
             color = prcLightPrePassFinal(Vec4<T>(lighting), Vec3<T>(glm::vec3(s.diffuse)), Vec3<T>(glm::vec3(s.specular)));
         } else {
             // MSAA (§11.5, Listing 11.19's loop): the light buffer's covered samples summed, the
@@ -148,6 +151,10 @@ template <bool kDiscard>
 using LppFinalExactPS = LppFinalPS<kDiscard, float>;
 template <bool kDiscard>
 using LppFinalReferencePS = LppFinalPS<kDiscard, double>;
+template <bool kDiscard>
+using LppFinalExactPerSamplePS = gbuffer_detail::PerSample<LppFinalPS<kDiscard, float>>;
+template <bool kDiscard>
+using LppFinalReferencePerSamplePS = gbuffer_detail::PerSample<LppFinalPS<kDiscard, double>>;
 
 struct ClassicShared {
     bool lightPrePass = false;  // light-prepass: Listing 11.5 into the light buffer
@@ -515,16 +522,27 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                        pass.depthStencil.depthFunc = ComparisonFunc::LessEqual;
                        pass.depthStencil.depthWriteEnable = false;
                        const TargetReader lightBuffer(reg.get("lightbuffer"));
+                       const bool perSample = samples > 1 && setup->options.finalPerSample;
                        const auto configure = [&](auto& ps) {
                            ps.lightBuffer = &lightBuffer;
                            ps.sampleCount = samples;
+                           ps.coverageLoop = !perSample;
                        };
-                       if (reference)
-                           gbuffer_detail::drawOpaqueGBuffer<LppFinalReferencePS>(*setup->forward, *device, *res, rt, pass,
-                                                                                  "lpp-final", configure, stats, variantCounts);
-                       else
-                           gbuffer_detail::drawOpaqueGBuffer<LppFinalExactPS>(*setup->forward, *device, *res, rt, pass, "lpp-final",
-                                                                              configure, stats, variantCounts);
+                       const ForwardPassSetup& f = *setup->forward;
+                       const auto draw = [&]<template <bool> class PS, template <bool> class PerSamplePS>() {
+                           if (!perSample) {
+                               gbuffer_detail::drawOpaqueGBuffer<PS>(f, *device, *res, rt, pass, "lpp-final", configure, stats, variantCounts);
+                               return;
+                           }
+                           // msaaFinal perSample: the geometry twice (§11.5), once per pixel where the
+                           // edge bit is clear, once per sample where it is set.
+                           gbuffer_detail::drawOpaqueGBuffer<PS>(f, *device, *res, rt, gbuffer_detail::withEdgeTest(pass, false),
+                                                                 "lpp-final", configure, stats, variantCounts);
+                           gbuffer_detail::drawOpaqueGBuffer<PerSamplePS>(f, *device, *res, rt, gbuffer_detail::withEdgeTest(pass, true),
+                                                                          "lpp-final-sample", configure, stats, variantCounts);
+                       };
+                       if (reference) draw.template operator()<LppFinalReferencePS, LppFinalReferencePerSamplePS>();
+                       else draw.template operator()<LppFinalExactPS, LppFinalExactPerSamplePS>();
                    }});
     } else if (reference) {
         frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision, samples));

@@ -120,7 +120,8 @@ struct Rendered {
 
 inline void render(const TestScene& t, const std::string& technique, const nlohmann::json& options, Rendered& out,
                    Precision precision = Precision::Exact, std::uint32_t threads = 2, glm::uvec2 sizePx = {kWidth, kHeight},
-                   decltype(TechniqueContext::afterLightStep) afterLightStep = {}) {
+                   decltype(TechniqueContext::afterLightStep) afterLightStep = {}, std::uint32_t samples = 1,
+                   DrawStats* stats = nullptr) {
     const SceneResources resources(t.scene, {}, TexturePolicy::AllLinear);
     Device device(DeviceConfig{32, threads});
     TechniqueContext ctx;
@@ -129,6 +130,8 @@ inline void render(const TestScene& t, const std::string& technique, const nlohm
     ctx.camera = t.camera;
     ctx.width = sizePx.x;
     ctx.height = sizePx.y;
+    ctx.sampleCount = samples;
+    ctx.stats = stats;
     ctx.options = options;
     ctx.precision = precision;
     ctx.variantCounts = &out.variants;

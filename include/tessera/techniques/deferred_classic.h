@@ -39,8 +39,8 @@ namespace tessera {
 inline constexpr std::array<std::string_view, 9> kDeferredClassicOptionKeys{
     "lightGeometry", "viewVector", "scissorRound", "stencil", "gbuffer", "normalEncoding", "sampler", "alphaTest", "msaaEdges"};
 // light-prepass: the same without "gbuffer" and "normalEncoding".
-inline constexpr std::array<std::string_view, 7> kLightPrePassOptionKeys{
-    "lightGeometry", "viewVector", "scissorRound", "stencil", "sampler", "alphaTest", "msaaEdges"};
+inline constexpr std::array<std::string_view, 8> kLightPrePassOptionKeys{
+    "lightGeometry", "viewVector", "scissorRound", "stencil", "sampler", "alphaTest", "msaaEdges", "msaaFinal"};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
 // ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"
