@@ -20,6 +20,7 @@
 #include <tessera/techniques/technique_options.h>
 
 #include "gbuffer_pass.h"
+#include "msaa_deferred.h"
 
 namespace tessera {
 namespace {
@@ -30,6 +31,7 @@ struct CookbookOptions {
     bool bookSpot = true;           // spotVolume book
     bool vertexCpPos = true;        // cpPos vertex
     bool stencil = false;           // background stencil
+    EdgeDetector edges = EdgeDetector::DepthNormal;  // MSAA (the recipe has none): Intel's test
     bool padded = true;             // volumeScale padded
     bool quads = false;             // lightGeometry quads
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
@@ -48,6 +50,7 @@ CookbookOptions parseOptions(const TechniqueContext& ctx, const std::string& fil
     o.quads = optionEnum(j, "lightGeometry", {"volumes", "quads"}, "volumes", file) == "quads";
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
+    o.edges = gbuffer_detail::parseEdgeDetector(ctx.options, EdgeDetector::DepthNormal, file);
     return o;
 }
 
@@ -101,20 +104,11 @@ struct CookbookVolumeVS {
 // The G-buffer PS: the Phong surface gather (the material mapping every 3dgep-based technique
 // uses), then PackGBuffer(BaseColor, normalize(Normal), SpecIntensity, SpecPower) with the world
 // normal. SpecIntensity is the mean of the specular colour (0 when the material has none).
-template <bool kDiscard>
-struct CookbookGBufferPS {
-    using Varyings = PhongVaryings;
+struct CookbookEncoder {
     static constexpr int kTargetCount = 3;
-    static constexpr bool kMayDiscard = kDiscard;
-    PhongGatherFn gather = nullptr;
-    const PhongShaderData<float>* data = nullptr;
     glm::mat3 worldFromView{1.0f};
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<3>& out) const {
-        PhongSurface<float> s;
-        if (!gather(*data, in, s)) {
-            out.discard();
-            return;
-        }
+    template <class Out>
+    void encode(const PhongSurface<float>& s, const PixelInput<PhongVaryings>&, Out& out) const {
         const glm::vec3 normalWorld = hlsl::normalize(worldFromView * glm::vec3(s.normalView));
         const float specIntensity = ((s.specular.x + s.specular.y) + s.specular.z) / 3.0f;
         out.target[0] = glm::vec4(glm::vec3(s.diffuse), specIntensity);                    // ColorSpecInt
@@ -122,6 +116,8 @@ struct CookbookGBufferPS {
         out.target[2] = glm::vec4(packCookbookSpecPower(s.specularPower), 0.0f, 0.0f, 0.0f);  // SpecPow
     }
 };
+template <bool D> using CookbookGBufferPS = gbuffer_detail::GBufferShader<CookbookEncoder, D>;
+template <bool D> using CookbookGBufferMsaaPS = gbuffer_detail::GBufferShader<CookbookEncoder, D, true>;
 
 // DirLightPS / PointLightPS / SpotLightPS / CapsuleLightPS: UnpackGBuffer at the pixel,
 // MaterialFromGBuffer, CalcWorldPos, Calc*. T = float (exact, fast with kFast), double (reference:
@@ -134,16 +130,18 @@ struct CookbookLightPS {
     const CookbookLight* light = nullptr;
     void operator()(const PixelInput<CookbookVaryings>& in, PixelOutput<1>& out) const {
         const CookbookShared& g = *shared;
-        // UnpackGBuffer_Loc(In.Position.xy): Load at the integer pixel.
+        // UnpackGBuffer_Loc(In.Position.xy): Load at the integer pixel; with MSAA the shader's
+        // sample (0 per pixel; SV_Position and cpPos at the sample when it runs per sample).
         const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
-        const T linearDepth = cookbookLinearDepth<T>(T(g.depth->loadDepth(x, y)), g.pv);
-        const glm::vec4 colorSpecInt = g.color.load(x, y);
+        const std::uint32_t i = in.sampleIndex;
+        const T linearDepth = cookbookLinearDepth<T>(T(g.depth->loadDepth(x, y, i)), g.pv);
+        const glm::vec4 colorSpecInt = g.color.load(x, y, i);
         CookbookMaterial<T> m;
         m.diffuseColor = Vec3<T>(glm::vec3(colorSpecInt));
         m.specIntensity = T(colorSpecInt.w);
-        const Vec3<T> stored(glm::vec3(g.normal.load(x, y)));
+        const Vec3<T> stored(glm::vec3(g.normal.load(x, y, i)));
         m.normal = hlsl::normalize(stored * T(2) - T(1));
-        const float specPowNorm = g.specPow.load(x, y).x;
+        const float specPowNorm = g.specPow.load(x, y, i).x;
         m.specPow = T(g.printedUnpack ? unpackCookbookSpecPowerAsPrinted(specPowNorm) : unpackCookbookSpecPower(specPowNorm));
         // cpPos: the interpolated per-vertex value, or the pixel centre's clip-space xy.
         glm::vec<2, T> cpPos;
@@ -398,16 +396,26 @@ void runLights(const CookbookSetup& setup, Device& device, BufferRegistry& reg, 
     for (std::size_t k = 0; k < setup.draws.size(); ++k) {
         const LightDraw& d = setup.draws[k];
         const PassState pass = d.quad ? quadState(setup.options, k == 0) : volumeState(setup.options);
-        DrawState st = makeDrawState(pass, viewport);
-        st.precision = fwd.precision;
         RenderTargets rt;
         rt.colors[0] = &target;
-        // The book's quad binds no depth-stencil view; every other draw binds it read-only.
-        if (!(d.quad && !setup.options.stencil)) rt.depthStencil = &depth;
+        // The book's quad binds no depth-stencil view; every other draw binds it read-only. With
+        // MSAA every draw binds it for the edge bit (the quad's depth test stays off).
+        const bool msaa = fwd.sampleCount > 1;
+        if (!(d.quad && !setup.options.stencil) || msaa) rt.depthStencil = &depth;
         const CookbookVolumeVS vs{d.clipFromLocal};
         const CookbookLightPS<T, kFast> ps{&setup.shared, &d.light};
-        DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, vs, ps);
-        if (stats) *stats += s;
+        const auto drawWith = [&](const PassState& p, const auto& shader) {
+            DrawState state = makeDrawState(p, viewport);
+            state.precision = fwd.precision;
+            DrawStats s = device.draw(state, rt, std::span<const LocalVertex>(d.vertices), d.indices, vs, shader);
+            if (stats) *stats += s;
+        };
+        if (!msaa) {
+            drawWith(pass, ps);
+        } else {  // once per pixel where the edge bit is clear, once per sample where it is set
+            drawWith(gbuffer_detail::withEdgeTest(pass, false), ps);
+            drawWith(gbuffer_detail::withEdgeTest(pass, true), gbuffer_detail::PerSample<CookbookLightPS<T, kFast>>{ps});
+        }
         if (variantCounts) ++(*variantCounts)[std::string("cookbook-light:") + typeName(d.light.type) + (d.quad ? "(quad)" : "")];
         if (setup.afterLightStep && d.light.index != kAmbientLightTerm)
             setup.afterLightStep(d.light.index, "shade", reg);
@@ -441,24 +449,33 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
     setup->draws = planDraws(ctx.resources->scene().lights, opt, viewLh, projectionLh);
 
     const bool reference = ctx.precision == Precision::Reference;
-    const std::string back(kBackBufferName);
+    // With MSAA every buffer has `samples` samples and the image is resolved last (technique.h).
+    const std::uint32_t samples = ctx.sampleCount;
+    const bool msaa = samples > 1;
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     std::vector<std::string> created{back, "gbuffer.color", "gbuffer.normal", "gbuffer.specpow", "depth"};
     if (reference) {
         created.emplace_back("accumulation");
-        created.emplace_back(kReferenceBufferName);
+        created.push_back(backReference);
+    }
+    if (msaa) {
+        created.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        created.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+        created.emplace_back(gbuffer_detail::kEdgesBuffer);
     }
     Frame frame;
-    frame.add({"clear", {}, created, [setup, reference](BufferRegistry& reg) {
+    frame.add({"clear", {}, created, [setup, reference, samples, back, backReference](BufferRegistry& reg) {
                    const std::uint32_t w = setup->forward->width, h = setup->forward->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
                    // "clear depth to 1, the others to black"
-                   reg.create("gbuffer.color", {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(glm::vec4(0.0f));
-                   reg.create("gbuffer.normal", {w, h, Format::R11G11B10_FLOAT, 1}).clearColor(glm::vec4(0.0f));
-                   reg.create("gbuffer.specpow", {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(glm::vec4(0.0f));
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                   reg.create("gbuffer.color", {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(glm::vec4(0.0f));
+                   reg.create("gbuffer.normal", {w, h, Format::R11G11B10_FLOAT, samples}).clearColor(glm::vec4(0.0f));
+                   reg.create("gbuffer.specpow", {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(glm::vec4(0.0f));
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, samples}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (samples > 1) gbuffer_detail::createEdgeTargets(reg, w, h, samples);
                    if (reference) {
-                       reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create("accumulation", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
+                       reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    }
                }});
 
@@ -467,16 +484,32 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
     const std::vector<std::string> gbuffer{"gbuffer.color", "gbuffer.normal", "gbuffer.specpow", "depth"};
-    frame.add({"gbuffer", gbuffer, gbuffer, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    std::vector<std::string> gbufferOut = gbuffer;
+    if (msaa) {
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+    }
+    frame.add({"gbuffer", gbuffer, gbufferOut, [setup, device, stats, variantCounts, res, samples](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.color");
                    rt.colors[1] = &reg.get("gbuffer.normal");
                    rt.colors[2] = &reg.get("gbuffer.specpow");
                    rt.depthStencil = &reg.get("depth");
-                   gbuffer_detail::drawOpaqueGBuffer<CookbookGBufferPS>(
-                       *setup->forward, *device, *res, rt, gbufferState(setup->options.stencil), "cookbook-gbuffer",
-                       [&](auto& ps) { ps.worldFromView = setup->worldFromView; }, stats, variantCounts);
+                   const auto configure = [&](auto& ps) {
+                       ps.worldFromView = setup->worldFromView;
+                       ps.sampleCount = samples;
+                   };
+                   const PassState state = gbufferState(setup->options.stencil);
+                   if (samples == 1) {
+                       gbuffer_detail::drawOpaqueGBuffer<CookbookGBufferPS>(*setup->forward, *device, *res, rt, state, "cookbook-gbuffer",
+                                                                            configure, stats, variantCounts);
+                   } else {
+                       gbuffer_detail::bindEdgeTargets(rt, reg, 3);
+                       gbuffer_detail::drawOpaqueGBuffer<CookbookGBufferMsaaPS>(*setup->forward, *device, *res, rt, state,
+                                                                                "cookbook-gbuffer", configure, stats, variantCounts);
+                   }
                }});
+    if (msaa) frame.add(gbuffer_detail::edgePass(device, stats, opt.edges));
 
     const std::vector<std::string> lightReads{"gbuffer.color", "gbuffer.normal", "gbuffer.specpow", "depth"};
     const std::string lightTarget = reference ? "accumulation" : back;
@@ -495,8 +528,9 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
                    case Precision::Exact: runLights<float, false>(*setup, *device, reg, target, stats, variantCounts); break;
                    }
                }});
-    if (reference) frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision));
+    if (reference) frame.add(gbuffer_detail::presentAccumulationPass(ctx.precision, samples));
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
+    if (msaa) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
 }
 

@@ -43,6 +43,9 @@ constexpr std::array<std::string_view, 2> kViewVector{"printed", "normalized"};
 constexpr std::array<std::string_view, 2> kScissorRound{"truncate", "out"};
 constexpr std::array<std::string_view, 2> kClassicGBuffer{"plain", "optimized"};
 constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
+constexpr std::array<std::string_view, 3> kEdgesPrc{"coverage", "depthNormal", "all"};
+constexpr std::array<std::string_view, 3> kEdgesIntel{"depthNormal", "coverage", "all"};
+constexpr std::array<std::string_view, 2> kMsaaFinal{"coverage", "perSample"};
 constexpr std::array<std::string_view, 0> kNone{};
 
 constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
@@ -56,9 +59,17 @@ constexpr OptionInfo kAlphaTestOption{"alphaTest", Kind::Bool, kBool, -1, "false
 constexpr OptionInfo kTileSizeOption{"tileSize", Kind::Integer, kTileSize, -1, "16", "", 0,
                                      "tile edge in px, one thread group per tile (BLOCK_SIZE)"};
 
+// With --msaa N: which pixels the light passes shade per sample (techniques/msaa_deferred.h).
+constexpr OptionInfo kEdgesPrcOption{"msaaEdges", Kind::Word, kEdgesPrc, -1, "coverage", "", 0,
+                                     "MSAA: per-sample shading where a triangle covered the pixel partly (Listing 11.17), "
+                                     "where depth or normal differ (Intel 2010), or everywhere"};
+constexpr OptionInfo kEdgesIntelOption{"msaaEdges", Kind::Word, kEdgesIntel, -1, "depthNormal", "", 0,
+                                       "MSAA: per-sample shading where depth or normal differ (Intel 2010), where a triangle "
+                                       "covered the pixel partly (PR&C Listing 11.17), or everywhere"};
+
 constexpr std::array<OptionInfo, 3> kForward{kProjectionOption, kSamplerOption, kAlphaTestOption};
 
-constexpr std::array<OptionInfo, 9> kDeferredCookbook{
+constexpr std::array<OptionInfo, 10> kDeferredCookbook{
     OptionInfo{"specPowerUnpack", Kind::Word, kSpecPowerUnpack, -1, "printed", "once", 22,
                "the chapter's printed unpack (251 x norm, then decoded again) or 0.1 + 250 x norm once"},
     OptionInfo{"volumeCull", Kind::Word, kVolumeCull, -1, "table", "front", 23,
@@ -74,7 +85,8 @@ constexpr std::array<OptionInfo, 9> kDeferredCookbook{
     OptionInfo{"lightGeometry", Kind::Word, kLightGeometry, -1, "volumes", "", 0,
                "the recipes' volumes, or every light as a full-screen quad (the baseline the volumes must match)"},
     kSamplerOption,
-    kAlphaTestOption};
+    kAlphaTestOption,
+    kEdgesIntelOption};
 
 constexpr OptionInfo kClassicGeometryOption{"lightGeometry", Kind::Word, kClassicGeometry, -1, "quads", "", 0,
                                             "a full-screen quad per light (§11.2), the quad cut by the light's scissor "
@@ -86,7 +98,7 @@ constexpr OptionInfo kScissorRoundOption{"scissorRound", Kind::Word, kScissorRou
 constexpr OptionInfo kStencilMaskOption{"stencil", Kind::Bool, kBool, -1, "false", "", 0,
                                         "the stencil mask of lit geometry (G-buffer REPLACE 1, lights EQUAL 1)"};
 
-constexpr std::array<OptionInfo, 8> kDeferredClassic{
+constexpr std::array<OptionInfo, 9> kDeferredClassic{
     kClassicGeometryOption,
     kViewVectorOption,
     kScissorRoundOption,
@@ -96,12 +108,17 @@ constexpr std::array<OptionInfo, 8> kDeferredClassic{
     OptionInfo{"normalEncoding", Kind::Word, kNormalEncoding, -1, "printed", "safe", 29,
                "Listing 11.8's sphere map (NaN at and near the camera-facing pole: black pixels), or a codec defined there"},
     kSamplerOption,
-    kAlphaTestOption};
+    kAlphaTestOption,
+    kEdgesPrcOption};
 
-constexpr std::array<OptionInfo, 6> kLightPrePass{kClassicGeometryOption, kViewVectorOption, kScissorRoundOption,
-                                                  kStencilMaskOption,     kSamplerOption,    kAlphaTestOption};
+constexpr std::array<OptionInfo, 8> kLightPrePass{
+    kClassicGeometryOption, kViewVectorOption, kScissorRoundOption, kStencilMaskOption, kSamplerOption, kAlphaTestOption,
+    kEdgesPrcOption,
+    OptionInfo{"msaaFinal", Kind::Word, kMsaaFinal, -1, "coverage", "perSample", 30,
+               "MSAA second geometry pass: Listing 11.19's loop over SV_Coverage (which counts samples of surfaces in "
+               "front), or per sample at edge pixels"}};
 
-constexpr std::array<OptionInfo, 9> kDeferred{
+constexpr std::array<OptionInfo, 10> kDeferred{
     kProjectionOption,
     OptionInfo{"reconstruct", Kind::Word, kReconstruct, -1, "corner", "centre", 3,
                "where the light pass rebuilds P from depth: the pixel's top-left corner, or its centre"},
@@ -117,7 +134,8 @@ constexpr std::array<OptionInfo, 9> kDeferred{
                "each light blends its colour into RT0, or lighting is summed apart and composed as forward does (the "
                "order that reproduces forward's bits)"},
     kSamplerOption,
-    kAlphaTestOption};
+    kAlphaTestOption,
+    kEdgesIntelOption};
 
 // deferred's options and one more.
 template <std::size_t N>
@@ -128,7 +146,7 @@ constexpr std::array<OptionInfo, N + 1> withOption(const std::array<OptionInfo, 
     return out;
 }
 
-constexpr std::array<OptionInfo, 10> kKillzone = withOption(
+constexpr std::array<OptionInfo, 11> kKillzone = withOption(
     kDeferred, OptionInfo{"threshold", Kind::Integer, kNone, 0, "0", "", 0,
                           "a light's shade draw runs only when its occlusion query passed more than this many samples"});
 
@@ -161,7 +179,7 @@ constexpr std::array<OptionInfo, 7> kForwardPlusAmd{
                "which lights each tile's culling loop visits: binned by tile rows, or all (GPU Pro 4's kernel); the "
                "same lists"}};
 
-constexpr std::array<OptionInfo, 10> kTiledDeferred{
+constexpr std::array<OptionInfo, 11> kTiledDeferred{
     OptionInfo{"shading", Kind::Word, kShadingIntel, -1, "intel", "", 0,
                "Intel's 2010 sample shading, or the 3dgep article's Phong equations on the same G-buffer"},
     OptionInfo{"gbuffer", Kind::Word, kGBuffer, -1, "demo", "float", 7,
@@ -178,7 +196,8 @@ constexpr std::array<OptionInfo, 10> kTiledDeferred{
     OptionInfo{"projection", Kind::Word, kProjectionD3d, -1, "d3d", "", 0,
                "the only value: Intel's view-z reconstruction needs a D3D-form matrix"},
     kSamplerOption,
-    kAlphaTestOption};
+    kAlphaTestOption,
+    kEdgesIntelOption};
 
 struct TechniqueOptions {
     std::string_view id;

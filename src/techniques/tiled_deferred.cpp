@@ -25,6 +25,7 @@
 #include <tessera/techniques/technique_options.h>
 
 #include "gbuffer_pass.h"
+#include "msaa_deferred.h"
 
 namespace tessera {
 
@@ -136,6 +137,7 @@ struct TiledOptions {
     std::uint32_t capacity = kIntelMaxLights;
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
+    EdgeDetector edges = EdgeDetector::DepthNormal;  // MSAA: RequiresPerSampleShading
 };
 
 TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
@@ -150,6 +152,7 @@ TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
     o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
                                                                                  : PhongSamplerChoice::Demo;
     o.alphaTest = optionBool(j, "alphaTest", false, file);
+    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::DepthNormal, file);
     if (j.is_object()) {
         if (const auto it = j.find("tileSize"); it != j.end()) {
             if (!it->is_number_integer() || (it->get<std::int64_t>() != 8 && it->get<std::int64_t>() != 16 &&
@@ -169,9 +172,9 @@ TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
 
 // A PS output value converted for an R8G8B8A8_UNORM target without blending: NaN -> 0, clamp to
 // [0, 1] (D3D11.3 §3.2.3.6), rounded by the surface's encoder.
-void storeUnorm8(Surface& target, std::uint32_t x, std::uint32_t y, glm::vec4 v) {
+void storeUnorm8(Surface& target, std::uint32_t x, std::uint32_t y, glm::vec4 v, std::uint32_t sample = 0) {
     for (int c = 0; c < 4; ++c) v[c] = v[c] == v[c] ? std::min(std::max(v[c], 0.0f), 1.0f) : 0.0f;
-    target.store(x, y, 0, v);
+    target.store(x, y, sample, v);
 }
 
 // One scene light as the culling loop sees it (left-handed view space, Intel's convention).
@@ -202,8 +205,17 @@ struct TiledSetup {
     std::vector<CullLight> cull;
     std::vector<IntelLight> intelLights;
     // Bound by the dispatch pass:
-    std::vector<float> depth;  // the depth buffer as Load returns it (D24 decoded)
+    std::vector<float> depth;  // the depth buffer as Load returns it (D24 decoded), sample 0
     DepthImageView depthView;
+    // MSAA: every sample's depth image (sampleViews[0] is depthView), the edge detectors' inputs
+    // and outputs, and per tile the pixels and samples shaded (DrawStats' compute counters).
+    std::uint32_t samples = 1;
+    std::vector<std::vector<float>> sampleDepth;
+    std::vector<DepthImageView> sampleViews;
+    const Surface* edgeSurface = nullptr;
+    const Surface* edgeCoverage = nullptr;
+    Surface* edges = nullptr;
+    std::vector<std::uint64_t> shadedPixels, shadedSamples, edgePixels;
     TargetReader accumulation, diffuse, specular, normal, position;
     Surface* back = nullptr;
     Surface* reference = nullptr;  // precision reference: the float copy of the back buffer
@@ -218,32 +230,34 @@ struct TiledSetup {
 
 // Pixel (x, y) of the tile: 3dgep's DoLighting over the tile's lights and forward's final
 // expression (deferred.h ComposePS), where the G-buffer has geometry.
+// With MSAA `i` is the sample (Intel's ComputeSurfaceDataFromGBufferSample: the sample's G-buffer
+// and depth, the position along the pixel centre's ray).
 template <class T, bool kFast>
-void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<T>> lights, std::uint32_t x, std::uint32_t y) {
-    const float zBuffer = s.depthView.load(x, y);
+void shadePixelDgep(const TiledSetup& s, std::span<const ViewLight<T>> lights, std::uint32_t x, std::uint32_t y, std::uint32_t i = 0) {
+    const float zBuffer = s.sampleViews[i].load(x, y);
     if (!(zBuffer < 1.0f)) return;  // the cleared depth: no geometry, the clear colour stays
     const TiledOptions& o = s.options;
     glm::vec4 posViewStored;
     if (o.positionFromGBuffer) {
-        posViewStored = s.position.load(x, y);
+        posViewStored = s.position.load(x, y, i);
     } else {
         const glm::vec3 lh = positionViewFromDepthIntel(x, y, zBuffer, {s.width, s.height}, s.projectionLh);
         posViewStored = glm::vec4(lh.x, lh.y, -lh.z, 1.0f);
     }
     const Vec4<T> posView(posViewStored);
-    const Vec4<T> normalView(s.normal.load(x, y));
-    const glm::vec4 specularStored = s.specular.load(x, y);
+    const Vec4<T> normalView(s.normal.load(x, y, i));
+    const glm::vec4 specularStored = s.specular.load(x, y, i);
     const T specularPower = T(o.floatTargets ? specularStored.w : unpackSpecularPower(specularStored.w));
     const LightingResult<T> lit = doLighting<T, kFast>(lights, specularPower, posView, normalView, specularPower > T(1));
-    const Vec4<T> ambientEmissive(s.accumulation.load(x, y));
-    Vec4<T> diffuse(s.diffuse.load(x, y));
+    const Vec4<T> ambientEmissive(s.accumulation.load(x, y, i));
+    Vec4<T> diffuse(s.diffuse.load(x, y, i));
     diffuse *= Vec4<T>(lit.diffuse.x, lit.diffuse.y, lit.diffuse.z, T(1));
     Vec4<T> specular(T(0));
     if (specularPower > T(1)) specular = Vec4<T>(T(specularStored.x), T(specularStored.y), T(specularStored.z), T(0)) * lit.specular;
     const Vec4<T> sum = (ambientEmissive + diffuse) + specular;
     const glm::vec4 color(float(sum.x), float(sum.y), float(sum.z), float(ambientEmissive.w));
-    storeUnorm8(*s.back, x, y, color);
-    if (s.reference) s.reference->store(x, y, 0, convert::clampUnorm(color));
+    storeUnorm8(*s.back, x, y, color, i);
+    if (s.reference) s.reference->store(x, y, i, convert::clampUnorm(color));
 }
 
 // Pixel (x, y): Intel's per-pixel body of ComputeShaderTileCS (MSAA 1): SurfaceData from the
@@ -291,27 +305,28 @@ LightTerm describeIntelLight(std::uint32_t index, const IntelLight& light, const
 }
 
 template <class T, bool kFast>
-void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y) {
-    const bool sky = !(s.depthView.load(x, y) < 1.0f);  // the present pass keeps the clear colour there
+void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, std::uint32_t x, std::uint32_t y, std::uint32_t i = 0) {
+    const float zBuffer = s.sampleViews[i].load(x, y);
+    const bool sky = !(zBuffer < 1.0f);  // the present pass keeps the clear colour there
     if (list.empty()) {
-        s.lit->store(x, y, 0, glm::vec4(0.0f));
-        if (s.reference && !sky) s.reference->store(x, y, 0, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        s.lit->store(x, y, i, glm::vec4(0.0f));
+        if (s.reference && !sky) s.reference->store(x, y, i, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
         return;
     }
     const TiledOptions& o = s.options;
     glm::vec3 posViewLhStored;
     if (o.positionFromGBuffer) {
-        const glm::vec4 p = s.position.load(x, y);
+        const glm::vec4 p = s.position.load(x, y, i);
         posViewLhStored = glm::vec3(p.x, p.y, -p.z);
     } else {
-        posViewLhStored = positionViewFromDepthIntel(x, y, s.depthView.load(x, y), {s.width, s.height}, s.projectionLh);
+        posViewLhStored = positionViewFromDepthIntel(x, y, zBuffer, {s.width, s.height}, s.projectionLh);
     }
     const Vec3<T> posViewLh(posViewLhStored);
-    const glm::vec4 n = s.normal.load(x, y);
+    const glm::vec4 n = s.normal.load(x, y, i);
     glm::vec3 normalLhStored(n.x, n.y, -n.z);
     if (o.spheremap) normalLhStored = intelSpheremapRoundTrip(normalLhStored);
     const Vec3<T> normalLh(normalLhStored);
-    const Vec3<T> albedo(glm::vec3(s.diffuse.load(x, y)));
+    const Vec3<T> albedo(glm::vec3(s.diffuse.load(x, y, i)));
     const T specularAmount(kIntelSpecularAmount), specularPower(kIntelSpecularPower);
     Vec3<T> lit(T(0));
     std::vector<LightTerm>* const trace = watchedLightTerms();
@@ -345,8 +360,8 @@ void shadePixelIntel(const TiledSetup& s, std::span<const std::uint32_t> list, s
         }
         if (trace) [[unlikely]] trace->push_back(describeIntelLight<T, kFast>(index, light, posViewLh, normalLh, lit - litBefore));
     }
-    s.lit->store(x, y, 0, glm::vec4(glm::vec3(lit), 1.0f));
-    if (s.reference && !sky) s.reference->store(x, y, 0, convert::clampUnorm(glm::vec4(glm::vec3(lit), 1.0f)));
+    s.lit->store(x, y, i, glm::vec4(glm::vec3(lit), 1.0f));
+    if (s.reference && !sky) s.reference->store(x, y, i, convert::clampUnorm(glm::vec4(glm::vec3(lit), 1.0f)));
 }
 
 // The watched pixel's shading as a compute event: the target it writes before and after, and the
@@ -373,6 +388,28 @@ void watchPixel(const TiledSetup& f, std::span<const std::uint32_t> list, std::u
     f.watch->events.push_back(std::move(ev));
 }
 
+// RequiresPerSampleShading (or the chosen detector) from the G-buffer pass's EdgeSample targets.
+bool edgePixel(const TiledSetup& f, std::uint32_t x, std::uint32_t y) {
+    std::array<EdgeSample, 8> samples{};
+    for (std::uint32_t i = 0; i < f.samples; ++i) {
+        const glm::vec4 a = f.edgeSurface->load(x, y, i), b = f.edgeCoverage->load(x, y, i);
+        samples[i] = EdgeSample{glm::vec3(a), a.w, b.y, b.x != 0.0f};
+    }
+    return isEdgePixel(f.options.edges, std::span<const EdgeSample>(samples.data(), f.samples));
+}
+
+// A one-surface pixel: sample 0's results written to its other samples (the sample's
+// WriteSample loop over every sample with one value).
+void copySampleZero(const TiledSetup& f, std::uint32_t x, std::uint32_t y) {
+    const auto copy = [&](Surface* s) {
+        if (!s) return;
+        const std::size_t bytes = s->bytesPerTexel();
+        for (std::uint32_t i = 1; i < f.samples; ++i) std::memcpy(s->texel(x, y, i), s->texel(x, y, 0), bytes);
+    };
+    copy(f.options.shading == Shading::Intel ? f.lit : f.back);
+    copy(f.reference);
+}
+
 // ComputeShaderTileCS, one group per tile of kDim x kDim pixels (one thread each).
 template <std::uint32_t kDim>
 struct TileKernel {
@@ -391,8 +428,14 @@ struct TileKernel {
 
         // Per-thread view z, valid near <= z < far, InterlockedMin / Max over asuint, initialised
         // to FLT_MAX / 0: tile_depth_range.h reduces the tile's pixels with the same result.
+        // With MSAA every sample's view z joins the reduction (the sample's per-sample loop).
         g.forOneThread(0, [&](const compute::ThreadIds&) {
-            const TileDepthBits bits = tileViewZBitsIntel(f.depthView, groupId, kDim, f.projectionLh, f.cameraNear, f.cameraFar);
+            TileDepthBits bits = tileViewZBitsIntel(f.depthView, groupId, kDim, f.projectionLh, f.cameraNear, f.cameraFar);
+            for (std::uint32_t i = 1; i < f.samples; ++i) {
+                const TileDepthBits b = tileViewZBitsIntel(f.sampleViews[i], groupId, kDim, f.projectionLh, f.cameraNear, f.cameraFar);
+                bits.minBits = std::min(bits.minBits, b.minBits);
+                bits.maxBits = std::max(bits.maxBits, b.maxBits);
+            }
             sh.minZ = bits.minBits;
             sh.maxZ = bits.maxBits;
             sh.numLights = 0;
@@ -428,22 +471,41 @@ struct TileKernel {
             }
         }
         const glm::vec4 heat(float(sh.numLights) / 255.0f);  // visualizeLightCount
+        // MSAA (DEFER_PER_SAMPLE): sample 0 of every pixel, copied to the others where the pixel is
+        // one surface; edge pixels (RequiresPerSampleShading) shaded per sample after the tile's
+        // first loop (the sample's LDS list of y << 16 | x, here in the same row-major order).
+        std::vector<std::uint32_t> deferred;
+        std::uint64_t pixelsShaded = 0;
+        const auto shadeSample = [&](std::uint32_t x, std::uint32_t y, std::uint32_t i) {
+            if (f.options.shading == Shading::Intel) {
+                if (precision == Precision::Reference) shadePixelIntel<double, false>(f, list, x, y, i);
+                else if (precision == Precision::Fast) shadePixelIntel<float, true>(f, list, x, y, i);
+                else shadePixelIntel<float, false>(f, list, x, y, i);
+            } else if (precision == Precision::Reference) shadePixelDgep<double, false>(f, gatheredReference, x, y, i);
+            else if (precision == Precision::Fast) shadePixelDgep<float, true>(f, gathered, x, y, i);
+            else shadePixelDgep<float, false>(f, gathered, x, y, i);
+        };
         g.forEachThread([&](const compute::ThreadIds& t) {
             const std::uint32_t x = t.dispatchThreadId.x, y = t.dispatchThreadId.y;
             if (x >= f.width || y >= f.height) return;  // only onscreen pixels
             storeUnorm8(*f.heat, x, y, heat);
-            const auto shadePixel = [&] {
-                if (f.options.shading == Shading::Intel) {
-                    if (precision == Precision::Reference) shadePixelIntel<double, false>(f, list, x, y);
-                    else if (precision == Precision::Fast) shadePixelIntel<float, true>(f, list, x, y);
-                    else shadePixelIntel<float, false>(f, list, x, y);
-                } else if (precision == Precision::Reference) shadePixelDgep<double, false>(f, gatheredReference, x, y);
-                else if (precision == Precision::Fast) shadePixelDgep<float, true>(f, gathered, x, y);
-                else shadePixelDgep<float, false>(f, gathered, x, y);
-            };
+            const auto shadePixel = [&] { shadeSample(x, y, 0); };
             if (f.watch && x == f.watch->x && y == f.watch->y) [[unlikely]] watchPixel(f, list, x, y, shadePixel);
             else shadePixel();
+            ++pixelsShaded;
+            if (f.samples > 1) {
+                if (edgePixel(f, x, y)) deferred.push_back(y << 16 | x);
+                else copySampleZero(f, x, y);
+            }
         });
+        for (const std::uint32_t packed : deferred) {
+            const std::uint32_t x = packed & 0xFFFFu, y = packed >> 16;
+            for (std::uint32_t i = 1; i < f.samples; ++i) shadeSample(x, y, i);
+            for (std::uint32_t i = 0; i < f.samples; ++i) f.edges->store(x, y, i, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f));
+        }
+        f.shadedPixels[tile] = pixelsShaded;
+        f.edgePixels[tile] = deferred.size();
+        f.shadedSamples[tile] = deferred.size() * (f.samples - 1);
     }
 };
 
@@ -505,34 +567,44 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
 
     const Format colorFormat = opt.floatTargets ? Format::R32G32B32A32_FLOAT : Format::R8G8B8A8_UNORM;
     const Format depthFormat = opt.floatTargets ? Format::D32_FLOAT_S8X24_UINT : Format::D24_UNORM_S8_UINT;
-    const std::string back(kBackBufferName);
+    // With MSAA every buffer has `samples` samples and the image is resolved last (technique.h).
+    const std::uint32_t samples = ctx.sampleCount;
+    const bool msaa = samples > 1;
+    setup->samples = samples;
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     std::vector<std::string> gbufferTargets{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.normal"};
     if (opt.positionFromGBuffer) gbufferTargets.emplace_back("gbuffer.position");
     std::vector<std::string> created = gbufferTargets;
     created.push_back(back);
-    if (ctx.precision == Precision::Reference) created.emplace_back(kReferenceBufferName);
+    if (ctx.precision == Precision::Reference) created.push_back(backReference);
     created.emplace_back("depth");
     created.emplace_back("heatmap");
     if (opt.shading == Shading::Intel) created.emplace_back("lit");
+    if (msaa) {
+        created.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        created.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+        created.emplace_back(gbuffer_detail::kEdgesBuffer);
+    }
 
     Frame frame;
-    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat](BufferRegistry& reg) {
+    frame.add({"clear", {}, created, [setup, colorFormat, depthFormat, samples, back, backReference](BufferRegistry& reg) {
                    const TiledOptions& o = setup->options;
                    const std::uint32_t w = setup->width, h = setup->height;
                    // the demo's clear, also tessera's stand-in for Intel's sky box
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
                    if (setup->forward->precision == Precision::Reference)
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
-                   reg.create("accumulation", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.diffuse", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.specular", {w, h, colorFormat, 1}).clearColor(kDemoClearColor);
-                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
+                       reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
+                   reg.create("accumulation", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.diffuse", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.specular", {w, h, colorFormat, samples}).clearColor(kDemoClearColor);
+                   reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    if (o.positionFromGBuffer)
-                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
-                   reg.create("depth", {w, h, depthFormat, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                       reg.create("gbuffer.position", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
+                   reg.create("depth", {w, h, depthFormat, samples}).clearDepthStencil(true, 1.0f, true, 0);
                    reg.create("heatmap", {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(glm::vec4(0.0f));
                    if (o.shading == Shading::Intel)
-                       reg.create("lit", {w, h, Format::R16G16B16A16_FLOAT, 1}).clearColor(glm::vec4(0.0f));
+                       reg.create("lit", {w, h, Format::R16G16B16A16_FLOAT, samples}).clearColor(glm::vec4(0.0f));
+                   if (samples > 1) gbuffer_detail::createEdgeTargets(reg, w, h, samples);
                }});
 
     Device* device = ctx.device;
@@ -542,43 +614,81 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
 
     std::vector<std::string> gbufferWrites = gbufferTargets;
     gbufferWrites.emplace_back("depth");
-    frame.add({"gbuffer", gbufferWrites, gbufferWrites, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+    std::vector<std::string> gbufferOut = gbufferWrites;
+    if (msaa) {
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        gbufferOut.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+    }
+    frame.add({"gbuffer", gbufferWrites, gbufferOut, [setup, device, stats, variantCounts, res, msaa](BufferRegistry& reg) {
+                   const bool position = setup->options.positionFromGBuffer;
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("accumulation");
                    rt.colors[1] = &reg.get("gbuffer.diffuse");
                    rt.colors[2] = &reg.get("gbuffer.specular");
                    rt.colors[3] = &reg.get("gbuffer.normal");
-                   if (setup->options.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
+                   if (position) rt.colors[4] = &reg.get("gbuffer.position");
+                   if (msaa) gbuffer_detail::bindEdgeTargets(rt, reg, position ? 5 : 4);
                    rt.depthStencil = &reg.get("depth");
                    // RT0 alpha = alpha * Opacity: forward's output alpha for the 3dgep compose.
-                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, false, stats, variantCounts);
+                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, position, stats,
+                                       variantCounts);
                }});
 
     std::vector<std::string> tileReads = gbufferTargets;
     tileReads.emplace_back("depth");
     std::vector<std::string> tileWrites{"heatmap", "tiles.grid", "tiles.lightCount", "tiles.lightIndices", "tiles.depthRange"};
     tileWrites.push_back(opt.shading == Shading::Intel ? std::string("lit") : back);
-    if (ctx.precision == Precision::Reference) tileWrites.emplace_back(kReferenceBufferName);
-    frame.add({"tiles", tileReads, tileWrites, [setup, device](BufferRegistry& reg) {
+    if (ctx.precision == Precision::Reference) tileWrites.push_back(backReference);
+    if (msaa) {
+        tileReads.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        tileReads.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+        tileWrites.emplace_back(gbuffer_detail::kEdgesBuffer);
+    }
+    frame.add({"tiles", tileReads, tileWrites, [setup, device, stats, back, backReference](BufferRegistry& reg) {
                    TiledSetup& s = *setup;
                    const Surface& depth = reg.get("depth");
-                   s.depth.resize(std::size_t(s.width) * s.height);
-                   for (std::uint32_t y = 0; y < s.height; ++y)
-                       for (std::uint32_t x = 0; x < s.width; ++x) s.depth[std::size_t(y) * s.width + x] = depth.loadDepth(x, y);
-                   s.depthView = DepthImageView{s.depth, s.width, s.height};
+                   s.sampleDepth.resize(s.samples);
+                   s.sampleViews.resize(s.samples);
+                   for (std::uint32_t i = 0; i < s.samples; ++i) {
+                       std::vector<float>& d = i == 0 ? s.depth : s.sampleDepth[i];
+                       d.resize(std::size_t(s.width) * s.height);
+                       for (std::uint32_t y = 0; y < s.height; ++y)
+                           for (std::uint32_t x = 0; x < s.width; ++x) d[std::size_t(y) * s.width + x] = depth.loadDepth(x, y, i);
+                       s.sampleViews[i] = DepthImageView{d, s.width, s.height};
+                   }
+                   s.depthView = s.sampleViews[0];
+                   if (s.samples > 1) {
+                       s.edgeSurface = &reg.get(std::string(gbuffer_detail::kEdgeSurfaceTarget));
+                       s.edgeCoverage = &reg.get(std::string(gbuffer_detail::kEdgeCoverageTarget));
+                       s.edges = &reg.get(std::string(gbuffer_detail::kEdgesBuffer));
+                   }
+                   const std::size_t tileCountTotal = s.lists.size();
+                   s.shadedPixels.assign(tileCountTotal, 0);
+                   s.shadedSamples.assign(tileCountTotal, 0);
+                   s.edgePixels.assign(tileCountTotal, 0);
                    s.accumulation = TargetReader(reg.get("accumulation"));
                    s.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
                    s.specular = TargetReader(reg.get("gbuffer.specular"));
                    s.normal = TargetReader(reg.get("gbuffer.normal"));
                    if (s.options.positionFromGBuffer) s.position = TargetReader(reg.get("gbuffer.position"));
-                   s.back = &reg.get(kBackBufferName);
-                   s.reference = s.forward->precision == Precision::Reference ? &reg.get(kReferenceBufferName) : nullptr;
+                   s.back = &reg.get(back);
+                   s.reference = s.forward->precision == Precision::Reference ? &reg.get(backReference) : nullptr;
                    s.heat = &reg.get("heatmap");
                    s.lit = s.options.shading == Shading::Intel ? &reg.get("lit") : nullptr;
                    switch (s.options.tileSize) {
                    case 8: dispatchTiles<8>(s, *device); break;
                    case 32: dispatchTiles<32>(s, *device); break;
                    default: dispatchTiles<16>(s, *device); break;
+                   }
+                   if (stats) {
+                       DrawStats counted;
+                       for (std::size_t t = 0; t < tileCountTotal; ++t) {
+                           counted.computeShadedPixels += s.shadedPixels[t];
+                           counted.computeShadedSamples += s.shadedSamples[t];
+                           counted.edgePixels += s.edgePixels[t];
+                       }
+                       if (s.samples > 1) counted.edgeTestedPixels = std::uint64_t(s.width) * s.height;
+                       *stats += counted;
                    }
                    // The lists, row-major by tile, the grid (offset, stored count) and the appended counts.
                    std::size_t total = 0;
@@ -610,22 +720,25 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     if (opt.shading == Shading::Intel) {
         // SkyboxToneMapPS with MSAA_SAMPLES 1: the sky where depth is the cleared value (tessera: the
         // clear colour instead of a sky box texture), else the lit value; identity tone map, alpha 1.
-        frame.add({"present", {"lit", "depth"}, {back}, [](BufferRegistry& reg) {
+        // With MSAA per sample (the MSAA_SAMPLES loop before the resolve).
+        frame.add({"present", {"lit", "depth"}, {back}, [back](BufferRegistry& reg) {
                        const Surface& lit = reg.get("lit");
                        const Surface& depth = reg.get("depth");
-                       Surface& backbuffer = reg.get(kBackBufferName);
+                       Surface& backbuffer = reg.get(back);
                        for (std::uint32_t y = 0; y < backbuffer.height(); ++y)
-                           for (std::uint32_t x = 0; x < backbuffer.width(); ++x) {
-                               if (!(depth.loadDepth(x, y) < 1.0f)) continue;  // sky: keeps the clear colour
-                               const glm::vec4 v = lit.load(x, y);
-                               storeUnorm8(backbuffer, x, y, glm::vec4(v.x, v.y, v.z, 1.0f));
-                           }
+                           for (std::uint32_t x = 0; x < backbuffer.width(); ++x)
+                               for (std::uint32_t i = 0; i < backbuffer.sampleCount(); ++i) {
+                                   if (!(depth.loadDepth(x, y, i) < 1.0f)) continue;  // sky: keeps the clear colour
+                                   const glm::vec4 v = lit.load(x, y, i);
+                                   storeUnorm8(backbuffer, x, y, glm::vec4(v.x, v.y, v.z, 1.0f), i);
+                               }
                    }});
     }
 
     // Transparent geometry: Intel's sample has none; tessera draws it as deferred does, with
     // forward's TransparentPass (3dgep shading, every light) over the image and the G-buffer depth.
     frame.add(gbuffer_detail::forwardTransparentPass(setup->forward, ctx));
+    if (msaa) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
 }
 

@@ -224,6 +224,10 @@ TEST_CASE("msaa deferred: every edge sample holds the colour of the surface at i
         {"deferred-classic", nlohmann::json::object()},
         {"deferred-classic", {{"gbuffer", "optimized"}, {"normalEncoding", "safe"}, {"lightGeometry", "scissor"}}},
         {"light-prepass", {{"msaaFinal", "perSample"}}},
+        {"deferred-cookbook", nlohmann::json::object()},
+        {"deferred-cookbook", {{"lightGeometry", "quads"}, {"background", "stencil"}}},
+        {"tiled-deferred", {{"shading", "3dgep"}}},
+        {"tiled-deferred", {{"shading", "3dgep"}, {"gbuffer", "float"}, {"position", "gbuffer"}}},
     };
     for (const auto& [technique, options] : runs)
         for (const char* detector : {"coverage", "depthNormal", "all"})
@@ -359,7 +363,8 @@ TEST_CASE("msaa deferred: with every correction, non-edge pixels equal forward's
 
 TEST_CASE("msaa deferred: the same bytes at 1, 2 and 7 threads") {
     const TestScene t = makeScene(defaultLights());
-    for (const char* technique : {"deferred", "deferred-killzone", "deferred-classic", "light-prepass", "forward"}) {
+    for (const char* technique : {"deferred", "deferred-killzone", "deferred-classic", "light-prepass", "forward",
+                                  "deferred-cookbook", "tiled-deferred"}) {
         CAPTURE(technique);
         Rendered a, b, c;
         render(t, technique, nlohmann::json::object(), a, Precision::Exact, 1, {kWidth, kHeight}, {}, 4);

@@ -49,7 +49,7 @@ inline constexpr std::array<std::string_view, 10> kDeferredOptionKeys{
     "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position", "accumulate", "sampler", "alphaTest", "msaaEdges"};
 inline constexpr std::array<std::string_view, 11> kKillzoneOptionKeys{
     "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position",
-    "accumulate", "sampler",     "alphaTest",    "threshold",      "msaaEdges"};
+    "accumulate", "sampler",     "alphaTest",    "msaaEdges",      "threshold"};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"       R8G8B8A8_UNORM: the image (the demo's RT0 with gbuffer demo)

@@ -41,8 +41,9 @@ namespace tessera {
 //       full-screen quad (the baseline the volumes save work against: with conservative volumes,
 //       stencil and the pixel's cpPos the two images are equal bit for bit, tests/unit/deferred_cookbook_test.cpp).
 //   "sampler", "alphaTest": as forward (the transparent pass).
-inline constexpr std::array<std::string_view, 9> kDeferredCookbookOptionKeys{
-    "specPowerUnpack", "volumeCull", "spotVolume", "cpPos", "background", "volumeScale", "lightGeometry", "sampler", "alphaTest"};
+inline constexpr std::array<std::string_view, 10> kDeferredCookbookOptionKeys{
+    "specPowerUnpack", "volumeCull",    "spotVolume", "cpPos",     "background",
+    "volumeScale",     "lightGeometry", "sampler",    "alphaTest", "msaaEdges"};
 
 // CalcAmbient's constants (the companion code's AmbientDown / AmbientRange are set by its sample
 // app; tessera takes the 3dgep demo's global ambient (0.1, 0.1, 0.15) as the upper colour and a

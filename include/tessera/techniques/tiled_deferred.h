@@ -59,9 +59,9 @@ namespace tessera {
 //   "projection": "d3d"   the only value: Intel's view-z reconstruction needs a D3D-form matrix
 //       (3dgep's perspectiveRH_ZO; _11, _22, _33, _43 of its left-handed equivalent).
 //   "sampler", "alphaTest": as forward (G-buffer textures; alphaTest: the transparent pass).
-inline constexpr std::array<std::string_view, 10> kTiledDeferredOptionKeys{
+inline constexpr std::array<std::string_view, 11> kTiledDeferredOptionKeys{
     "shading",          "gbuffer",    "position", "normals",   "tilePlanes", "tileSize",
-    "tileListCapacity", "projection", "sampler",  "alphaTest"};
+    "tileListCapacity", "projection", "sampler",  "alphaTest", "msaaEdges"};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"        R8G8B8A8_UNORM, the image
