@@ -140,7 +140,7 @@ struct AmdCullKernel {
     static constexpr glm::uvec3 groupSize{kAmdTileSizePx, kAmdTileSizePx, 1u};
     using Shared = AmdCullShared;
 
-    const DepthImageView* depth = nullptr;
+    std::span<const DepthImageView> depth;  // one image per MSAA sample (ForwardPlus11: every sample joins)
     std::span<const glm::vec4> lights;
     glm::mat4 inverseProjection{1.0f};
     AmdCullingOptions options;
@@ -168,12 +168,13 @@ struct AmdCullKernel {
         Shared& s = g.shared();
         const glm::uvec2 groupId(g.groupId());
         const std::uint32_t tileIndex = groupId.x + groupId.y * out->tileCount.x;
-        const glm::uvec2 windowPx(depth->width, depth->height);
+        const glm::uvec2 windowPx(depth[0].width, depth[0].height);
         // Every thread builds the same frustum in the shader; group-uniform here.
         const std::array<glm::vec3, 4> eqn =
             tileSidePlanesAmd(groupId, kAmdTileSizePx, windowPx, inverseProjection, options.corners);
-        compute::PerThread<float, kThreadsPerTile> pixelZ;
-        compute::PerThread<bool, kThreadsPerTile> pixelValid;
+        // The pixel's samples' view z and which of them take part (bit per sample).
+        compute::PerThread<std::array<float, 8>, kThreadsPerTile> pixelZ;
+        compute::PerThread<std::uint32_t, kThreadsPerTile> pixelValid;
 
         g.forOneThread(0, [&](const compute::ThreadIds&) {
             s.zMinBits = options.depthConvention == AmdDepthConvention::GpuPro4 ? 0xFFFFFFFFu : 0x7F7FFFFFu;
@@ -183,11 +184,14 @@ struct AmdCullKernel {
             s.lightIdxCounterFar = 0u;
         });
         g.forEachThread([&](const compute::ThreadIds& t) {
-            const float d = depth->load(t.dispatchThreadId.x, t.dispatchThreadId.y);
-            float z = 0.0f;
-            pixelValid[t] = viewZ(d, z);
-            pixelZ[t] = z;
-            if (pixelValid[t]) {
+            pixelValid[t] = 0u;
+            for (std::size_t i = 0; i < depth.size(); ++i) {
+                const float d = depth[i].load(t.dispatchThreadId.x, t.dispatchThreadId.y);
+                float z = 0.0f;
+                const bool valid = viewZ(d, z);
+                pixelZ[t][i] = z;
+                if (!valid) continue;
+                pixelValid[t] |= 1u << i;
                 compute::interlockedMax(s.zMaxBits, std::bit_cast<std::uint32_t>(z));
                 compute::interlockedMin(s.zMinBits, std::bit_cast<std::uint32_t>(z));
             }
@@ -201,7 +205,8 @@ struct AmdCullKernel {
         const float pitch = depthMaskPitch(minZ, maxZ);
         if (mask25D) {
             g.forEachThread([&](const compute::ThreadIds& t) {
-                if (pixelValid[t]) compute::interlockedOr(s.depthMask, depthMaskBit(pixelZ[t], minZ, pitch));
+                for (std::size_t i = 0; i < depth.size(); ++i)
+                    if (pixelValid[t] & (1u << i)) compute::interlockedOr(s.depthMask, depthMaskBit(pixelZ[t][i], minZ, pitch));
             });
         }
         // for (i = lIdx; i < numLights; i += 64) over every light, or over the tile's binned
@@ -255,10 +260,10 @@ struct AmdCullKernel {
 };
 
 // One culling pass; bins: the candidates of the binned loop (null: all lights).
-AmdTileLightLists cullPass(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh, const glm::mat4& inverseProjection,
+AmdTileLightLists cullPass(std::span<const DepthImageView> depth, std::span<const glm::vec4> lightsViewLh, const glm::mat4& inverseProjection,
                            const AmdCullingOptions& options, const AmdLightBins* bins) {
     AmdTileLightLists out;
-    out.tileCount = tileCount(glm::uvec2(depth.width, depth.height), kAmdTileSizePx);
+    out.tileCount = tileCount(glm::uvec2(depth[0].width, depth[0].height), kAmdTileSizePx);
     const std::size_t tiles = std::size_t{out.tileCount.x} * out.tileCount.y;
     out.tileOffset.assign(tiles, 0u);
     out.tileLightCount.assign(tiles, 0u);
@@ -283,7 +288,7 @@ AmdTileLightLists cullPass(const DepthImageView& depth, std::span<const glm::vec
     std::vector<std::uint32_t> staging(stageStart.back());
 
     AmdCullKernel kernel;
-    kernel.depth = &depth;
+    kernel.depth = depth;
     kernel.lights = lightsViewLh;
     kernel.inverseProjection = inverseProjection;
     kernel.options = options;
@@ -333,11 +338,14 @@ AmdTileLightLists cullPass(const DepthImageView& depth, std::span<const glm::vec
 
 }  // namespace
 
-std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+std::vector<AmdTileLightLists> cullTilesAmd(std::span<const DepthImageView> depth, std::span<const glm::vec4> lightsViewLh,
                                             const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes) {
-    if (depth.width == 0 || depth.height == 0 || depth.depth.size() < std::size_t{depth.width} * depth.height)
-        throw std::invalid_argument("cullTilesAmd: the depth buffer is empty or smaller than width x height");
-    const glm::uvec2 windowPx(depth.width, depth.height);
+    if (depth.empty() || depth.size() > 8) throw std::invalid_argument("cullTilesAmd: 1 to 8 depth samples per pixel");
+    for (const DepthImageView& d : depth)
+        if (d.width == 0 || d.height == 0 || d.depth.size() < std::size_t{d.width} * d.height || d.width != depth[0].width ||
+            d.height != depth[0].height)
+            throw std::invalid_argument("cullTilesAmd: a depth sample image is empty, smaller than width x height or of another size");
+    const glm::uvec2 windowPx(depth[0].width, depth[0].height);
     // The binning depends on the lights, the projection and the tile corners only: one per
     // corner convention, shared by the passes that use it.
     std::array<std::optional<AmdLightBins>, 2> binsByCorners;
@@ -353,6 +361,11 @@ std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::sp
         out.push_back(cullPass(depth, lightsViewLh, inverseProjection, options, bins));
     }
     return out;
+}
+
+std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
+                                            const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes) {
+    return cullTilesAmd(std::span<const DepthImageView>(&depth, 1), lightsViewLh, inverseProjection, passes);
 }
 
 AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,

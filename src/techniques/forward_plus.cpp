@@ -246,7 +246,7 @@ struct CullLightsKernel {
     static constexpr std::uint32_t kThreads = kBlock * kBlock;
     using Shared = CullShared;
 
-    DepthImageView depth;                 // DepthTextureVS (the pre-pass depth, D24 decoded)
+    std::span<const DepthImageView> depth;  // DepthTextureVS (the pre-pass depth, D24 decoded), per MSAA sample
     const Frustum* frustums = nullptr;    // in_Frustums
     std::span<const ViewLight<float>> lights;  // Lights
     const float* coneRadius = nullptr;         // per light: tan(radians(SpotlightAngle)) * Range, as CS_main computes it
@@ -299,7 +299,7 @@ struct CullLightsKernel {
         // commutative min/max reach the shared values, so tileDepthRange3dgep's loop over the
         // tile's pixels (out-of-screen loads 0) gives the same bits (math/tile_depth_range.h).
         g.forOneThread(0, [&](const compute::ThreadIds&) {
-            const TileDepthRange3dgep range = tileDepthRange3dgep(depth, groupId, kBlock, screenDimensions, inverseProjection);
+            const TileDepthRange3dgep range = tileDepthRange3dgep(depth, groupId, kBlock, screenDimensions, inverseProjection);  // every sample
             s.uMinDepth = std::bit_cast<std::uint32_t>(range.minDepth);
             s.uMaxDepth = std::bit_cast<std::uint32_t>(range.maxDepth);
             s.minDepthVS = range.minDepthVS;
@@ -481,18 +481,21 @@ void tileDepthRow(const Surface& depth, std::uint32_t block, std::uint32_t ty, g
     for (std::uint32_t tx = 0; tx < tiles.x; ++tx) {
         const std::uint32_t x0 = tx * block, x1 = std::min(x0 + block, width);
         std::uint32_t lo = 0xFFFFFFFFu, hi = 0;  // D24 codes, or float bits for other formats
+        const std::uint32_t samples = depth.sampleCount();  // MSAA: every sample (a row's are contiguous)
         for (std::uint32_t y = y0; y < y1; ++y) {
             const std::byte* texel = depth.texel(x0, y);
-            for (std::uint32_t x = x0; x < x1; ++x, texel += 4) {
-                std::uint32_t v;
-                if (d24) {
-                    std::memcpy(&v, texel, sizeof(v));
-                    v &= 0xFFFFFFu;
-                } else {
-                    v = std::bit_cast<std::uint32_t>(depth.loadDepth(x, y));
+            for (std::uint32_t x = x0; x < x1; ++x) {
+                for (std::uint32_t i = 0; i < samples; ++i, texel += 4) {
+                    std::uint32_t v;
+                    if (d24) {
+                        std::memcpy(&v, texel, sizeof(v));
+                        v &= 0xFFFFFFu;
+                    } else {
+                        v = std::bit_cast<std::uint32_t>(depth.loadDepth(x, y, i));
+                    }
+                    lo = std::min(lo, v);
+                    hi = std::max(hi, v);
                 }
-                lo = std::min(lo, v);
-                hi = std::max(hi, v);
             }
         }
         TileDepthBits bits{d24 ? std::bit_cast<std::uint32_t>(convert::d24ToDepth(lo)) : lo,
@@ -579,13 +582,17 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
     if (st.options.brute) {
         // The demo's loop as a thread-group dispatch (the reference the binned path is checked
         // against): DepthTextureVS as the SRV (R24_UNORM_X8) loads it, every light per row.
-        std::vector<float> depth(std::size_t{width} * height);
+        const std::uint32_t samples = depthSurface.sampleCount();
+        std::vector<std::vector<float>> depth(samples, std::vector<float>(std::size_t{width} * height));
+        std::vector<DepthImageView> depthViews;
+        for (const std::vector<float>& d : depth) depthViews.push_back(DepthImageView{d, width, height});
         std::vector<std::vector<BinnedLight>> rows(tiles.y);
         std::vector<float> coneRadius(lights.size());
         for (std::size_t i = 0; i < lights.size(); ++i) coneRadius[i] = sc.lights[i].coneRadius;
         device.execute([&] {
             tbb::parallel_for(std::uint32_t(0), height, [&](std::uint32_t y) {
-                for (std::uint32_t x = 0; x < width; ++x) depth[std::size_t{y} * width + x] = depthSurface.loadDepth(x, y);
+                for (std::uint32_t i = 0; i < samples; ++i)
+                    for (std::uint32_t x = 0; x < width; ++x) depth[i][std::size_t{y} * width + x] = depthSurface.loadDepth(x, y, i);
             });
             tbb::parallel_for(std::uint32_t(0), tiles.y, [&](std::uint32_t ty) {
                 for (std::size_t i = 0; i < lights.size(); ++i)
@@ -594,7 +601,7 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
             });
         });
         CullLightsKernel<kBlock> kernel;
-        kernel.depth = DepthImageView{depth, width, height};
+        kernel.depth = depthViews;
         kernel.frustums = frustums.data();
         kernel.lights = lights;
         kernel.coneRadius = coneRadius.data();
@@ -920,8 +927,8 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
             bound.indexCount = (transparentPass ? counters.transparent : counters.opaque).capacity;
             bound.tileSizePx = st->options.tileSizePx;
             RenderTargets rt;
-            rt.colors[0] = &reg.get(kBackBufferName);
-            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+            rt.colors[0] = &reg.get(backBufferTarget(st->setup->sampleCount));
+            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(referenceBufferTarget(st->setup->sampleCount));
             rt.depthStencil = &reg.get("depth");
             // Both Forward+ pipelines test LESS_EQUAL: the opaque pass against its own pre-pass
             // depth, the transparent pass without writes (main.cpp).
@@ -931,8 +938,11 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
             drawForwardPass(*st->setup, *device, *res, rt, transparentPass, stats, variantCounts, overrides);
         };
     };
-    // Precision reference: the listed lights shaded in double into the float copy as well.
-    const auto withColors = [&ctx](std::vector<std::string> names) { return withReferenceBuffer(std::move(names), ctx.precision); };
+    // Precision reference: the listed lights shaded in double into the float copy as well. With
+    // MSAA the multisampled targets, resolved last.
+    const auto withColors = [&ctx](std::vector<std::string> names) {
+        return withBackBufferTargets(withReferenceBuffer(std::move(names), ctx.precision), ctx.sampleCount);
+    };
     const std::vector<std::string> colors = withColors({back});
     frame.add({"opaque", withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque", "lightlist.counters"}),
                withColors({back, "depth"}), drawPass(false)});
@@ -940,20 +950,22 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
                withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent", "lightlist.counters"}),
                colors,
                drawPass(true)});
+    if (ctx.sampleCount > 1) frame.add(resolveBackBufferPass(ctx.sampleCount, ctx.precision));
     return frame;
 }
 
 void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
                                    const SceneResources* resources, DrawStats* stats) {
-    const std::string back(kBackBufferName);
+    const std::uint32_t samples = setup->sampleCount;
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     std::vector<std::string> cleared{back, "depth"};
-    if (setup->precision == Precision::Reference) cleared.emplace_back(kReferenceBufferName);
-    frame.add({"clear", {}, cleared, [setup](BufferRegistry& reg) {
+    if (setup->precision == Precision::Reference) cleared.push_back(backReference);
+    frame.add({"clear", {}, cleared, [setup, samples, back, backReference](BufferRegistry& reg) {
                    const std::uint32_t w = setup->width, h = setup->height;
-                   reg.create(std::string(kBackBufferName), {w, h, Format::R8G8B8A8_UNORM, 1}).clearColor(kDemoClearColor);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
                    if (setup->precision == Precision::Reference)
-                       reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kDemoClearColor);
-                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, 1}).clearDepthStencil(true, 1.0f, true, 0);
+                       reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
+                   reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, samples}).clearDepthStencil(true, 1.0f, true, 0);
                }});
     frame.add({"depth-prepass", {"depth"}, {"depth"}, [setup, device, resources, stats](BufferRegistry& reg) {
                    drawDepthPrepass(*setup, *device, *resources, reg.get("depth"), stats);

@@ -187,13 +187,18 @@ LightListCounters countersOf(const std::vector<std::uint32_t>& counts, const std
 void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
     const std::uint32_t width = st.setup->width, height = st.setup->height;
     const Surface& depthSurface = reg.get("depth");
-    std::vector<float> depth(std::size_t{width} * height);
+    // One image per MSAA sample: ForwardPlus11's culling takes every sample of each pixel.
+    const std::uint32_t samples = depthSurface.sampleCount();
+    std::vector<std::vector<float>> depth(samples, std::vector<float>(std::size_t{width} * height));
     device.execute([&] {
         tbb::parallel_for(std::uint32_t(0), height, [&](std::uint32_t y) {
-            for (std::uint32_t x = 0; x < width; ++x) depth[std::size_t{y} * width + x] = depthSurface.loadDepth(x, y);
+            for (std::uint32_t i = 0; i < samples; ++i)
+                for (std::uint32_t x = 0; x < width; ++x) depth[i][std::size_t{y} * width + x] = depthSurface.loadDepth(x, y, i);
         });
     });
-    const DepthImageView depthView{depth, width, height};
+    std::vector<DepthImageView> depthViews;
+    for (const std::vector<float>& d : depth) depthViews.push_back(DepthImageView{d, width, height});
+    const std::span<const DepthImageView> depthView(depthViews);
     AmdCullingOptions opaqueOptions;
     opaqueOptions.depthCulling = st.options.depthMask ? AmdDepthCulling::DepthMask25D : AmdDepthCulling::MinMax;
     opaqueOptions.halfZ = st.options.halfZ;
@@ -419,8 +424,8 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
             RenderTargets rt;
-            rt.colors[0] = &reg.get(kBackBufferName);
-            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+            rt.colors[0] = &reg.get(backBufferTarget(st->setup->sampleCount));
+            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(referenceBufferTarget(st->setup->sampleCount));
             rt.depthStencil = &reg.get("depth");
             if (st->options.shadingAmd) {
                 drawAmdPass(*st, *device, *res, rt, transparentPass, stats);
@@ -443,12 +448,15 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
             drawForwardPass(*st->setup, *device, *res, rt, transparentPass, stats, variantCounts, overrides);
         };
     };
-    const auto withColors = [&ctx](std::vector<std::string> names) { return withReferenceBuffer(std::move(names), ctx.precision); };
+    const auto withColors = [&ctx](std::vector<std::string> names) {
+        return withBackBufferTargets(withReferenceBuffer(std::move(names), ctx.precision), ctx.sampleCount);
+    };
     const std::vector<std::string> colors = withColors({back});
     frame.add({"opaque", withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque"}), withColors({back, "depth"}),
                drawPass(false)});
     frame.add({"transparent", withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent"}), colors,
                drawPass(true)});
+    if (ctx.sampleCount > 1) frame.add(resolveBackBufferPass(ctx.sampleCount, ctx.precision));
     return frame;
 }
 

@@ -117,18 +117,23 @@ Frame buildPreview(const TechniqueContext& ctx) {
 
     const Precision precision = ctx.precision;
     const bool reference = precision == Precision::Reference;
-    const std::string back(kBackBufferName);
-    frame.add({"clear", {}, withReferenceBuffer({back, "depth"}, precision), [w, h, reference](BufferRegistry& reg) {
+    // With MSAA the multisampled targets, resolved last (technique.h).
+    const std::uint32_t samples = ctx.sampleCount;
+    const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
+    const auto targets = [&](std::vector<std::string> names) {
+        return withBackBufferTargets(withReferenceBuffer(std::move(names), precision), samples);
+    };
+    frame.add({"clear", {}, targets({std::string(kBackBufferName), "depth"}), [w, h, reference, samples, back, backReference](BufferRegistry& reg) {
                    constexpr glm::vec4 kClear{0.02f, 0.02f, 0.025f, 1.0f};
-                   reg.create("backbuffer", {w, h, Format::R8G8B8A8_UNORM_SRGB, 1}).clearColor(kClear);
-                   if (reference) reg.create(std::string(kReferenceBufferName), {w, h, Format::R32G32B32A32_FLOAT, 1}).clearColor(kClear);
-                   reg.create("depth", {w, h, Format::D32_FLOAT, 1}).clearDepthStencil(true, 1.0f, false, 0);
+                   reg.create(back, {w, h, Format::R8G8B8A8_UNORM_SRGB, samples}).clearColor(kClear);
+                   if (reference) reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kClear);
+                   reg.create("depth", {w, h, Format::D32_FLOAT, samples}).clearDepthStencil(true, 1.0f, false, 0);
                }});
     auto drawPass = [=, &res, &device](bool blendPass) {
         return [=, &res, &device](BufferRegistry& reg) {
             RenderTargets rt;
-            rt.colors[0] = &reg.get("backbuffer");
-            if (reference) rt.colors[1] = &reg.get(kReferenceBufferName);
+            rt.colors[0] = &reg.get(back);
+            if (reference) rt.colors[1] = &reg.get(backReference);
             rt.depthStencil = &reg.get("depth");
             for (const DrawItem& item : res.drawItems()) {
                 const Material& m = res.material(item.material);
@@ -162,10 +167,10 @@ Frame buildPreview(const TechniqueContext& ctx) {
             }
         };
     };
-    frame.add({"opaque", withReferenceBuffer({back, "depth"}, precision), withReferenceBuffer({back, "depth"}, precision),
-               drawPass(false)});
-    frame.add({"transparent", withReferenceBuffer({back, "depth"}, precision), withReferenceBuffer({back}, precision),
-               drawPass(true)});
+    const std::string backName(kBackBufferName);
+    frame.add({"opaque", targets({backName, "depth"}), targets({backName, "depth"}), drawPass(false)});
+    frame.add({"transparent", targets({backName, "depth"}), targets({backName}), drawPass(true)});
+    if (samples > 1) frame.add(resolveBackBufferPass(samples, precision));
     return frame;
 }
 

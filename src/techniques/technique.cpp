@@ -23,7 +23,7 @@ constexpr std::array<std::string_view, 0> kNoOptions{};
 
 const std::array<TechniqueInfo, 10> kTechniques{{
     {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
-     kNoOptions},
+     kNoOptions, TexturePolicy::Gltf, true},
     {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (van Oosten 2015)",
      &buildForward, kForwardOptionKeys, TexturePolicy::AllLinear, true},
     {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward",
@@ -31,10 +31,10 @@ const std::array<TechniqueInfo, 10> kTechniques{{
     {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (van Oosten 2015)",
      &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear, true},
     {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid",
-     "3dgep (van Oosten 2015)", &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear},
+     "3dgep (van Oosten 2015)", &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear, true},
     {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
      "GPU Pro 4 ch. 5 + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, kForwardPlusAmdOptionKeys,
-     TexturePolicy::AllLinear},
+     TexturePolicy::AllLinear, true},
     {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel 2010 sample (Lauritzen)",
      &buildTiledDeferred, kTiledDeferredOptionKeys, TexturePolicy::AllLinear, true},
     {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
@@ -119,7 +119,8 @@ std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, s
 Pass resolveBackBufferPass(std::uint32_t sampleCount, Precision precision) {
     const std::vector<std::string> resolved = withReferenceBuffer({std::string(kBackBufferName)}, precision);
     return {"resolve", withBackBufferTargets(resolved, sampleCount), resolved, [sampleCount, precision](BufferRegistry& reg) {
-                Surface back = reg.get(backBufferTarget(sampleCount)).resolve(Format::R8G8B8A8_UNORM);
+                const Surface& msaa = reg.get(backBufferTarget(sampleCount));
+                Surface back = msaa.resolve(msaa.format());
                 reg.create(std::string(kBackBufferName), back.desc()) = std::move(back);
                 if (precision == Precision::Reference) {
                     Surface ref = reg.get(referenceBufferTarget(sampleCount)).resolve(Format::R32G32B32A32_FLOAT);

@@ -4,6 +4,7 @@
 // values, and the D3D11 rule that an out-of-range Load returns 0 for threads past the screen edge.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -83,9 +84,16 @@ struct TileDepthRange3dgep {
 
 // The kernel's view-space bounds: the culling then uses (nearClipVS, maxDepthVS) for the
 // transparent list and additionally minPlane = {(0, 0, -1), -minDepthVS} for the opaque list.
-inline TileDepthRange3dgep tileDepthRange3dgep(const DepthImageView& image, glm::uvec2 groupId, std::uint32_t blockSizePx,
+// MSAA: one image per sample, every sample's depth in the min / max (the demo has no MSAA; the
+// bounds then hold every surface a sample of the tile shows).
+inline TileDepthRange3dgep tileDepthRange3dgep(std::span<const DepthImageView> samples, glm::uvec2 groupId, std::uint32_t blockSizePx,
                                                const glm::vec2& screenDimensions, const glm::mat4& inverseProjection) {
-    const TileDepthBits bits = tileDepthBits3dgep(image, groupId, blockSizePx);
+    TileDepthBits bits = tileDepthBits3dgep(samples[0], groupId, blockSizePx);
+    for (std::size_t i = 1; i < samples.size(); ++i) {
+        const TileDepthBits b = tileDepthBits3dgep(samples[i], groupId, blockSizePx);
+        bits.minBits = std::min(bits.minBits, b.minBits);
+        bits.maxBits = std::max(bits.maxBits, b.maxBits);
+    }
     TileDepthRange3dgep range;
     range.minDepth = bits.minValue();
     range.maxDepth = bits.maxValue();
@@ -93,6 +101,11 @@ inline TileDepthRange3dgep tileDepthRange3dgep(const DepthImageView& image, glm:
     range.maxDepthVS = screenToView(glm::vec4(0.0f, 0.0f, range.maxDepth, 1.0f), screenDimensions, inverseProjection).z;
     range.nearClipVS = screenToView(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), screenDimensions, inverseProjection).z;
     return range;
+}
+
+inline TileDepthRange3dgep tileDepthRange3dgep(const DepthImageView& image, glm::uvec2 groupId, std::uint32_t blockSizePx,
+                                               const glm::vec2& screenDimensions, const glm::mat4& inverseProjection) {
+    return tileDepthRange3dgep(std::span<const DepthImageView>(&image, 1), groupId, blockSizePx, screenDimensions, inverseProjection);
 }
 
 // ----- AMD, GPU Pro 4 chapter (ch. 5 §5.3.1) ----------------------------------------------------

@@ -127,5 +127,9 @@ AmdTileLightLists cullTilesAmd(const DepthImageView& depth, std::span<const glm:
 // corners, so binned passes with the same corners share one.
 std::vector<AmdTileLightLists> cullTilesAmd(const DepthImageView& depth, std::span<const glm::vec4> lightsViewLh,
                                             const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes);
+// MSAA: one depth image per sample (1 to 8, one size); every sample's view z joins the tile's
+// bounds and (2.5D) its mask, as ForwardPlus11's MSAA loop over the samples of each pixel.
+std::vector<AmdTileLightLists> cullTilesAmd(std::span<const DepthImageView> depthSamples, std::span<const glm::vec4> lightsViewLh,
+                                            const glm::mat4& inverseProjection, std::span<const AmdCullingOptions> passes);
 
 }  // namespace tessera

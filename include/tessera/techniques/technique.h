@@ -87,8 +87,9 @@ std::string backBufferTarget(std::uint32_t sampleCount);
 std::string referenceBufferTarget(std::uint32_t sampleCount);
 // `names` with every "backbuffer" and "backbuffer.reference" replaced by its target above.
 std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, std::uint32_t sampleCount);
-// The last pass of an MSAA frame: ResolveSubresource (D3D11.3 §5.8: the samples' average) of the
-// targets into the back buffer (R8G8B8A8_UNORM) and, with precision reference, its float copy.
+// The last pass of an MSAA frame: ResolveSubresource (the samples' average, in the format's
+// linear values) of the targets into the back buffer (their format) and, with precision
+// reference, its float copy.
 Pass resolveBackBufferPass(std::uint32_t sampleCount, Precision precision);
 // Throws InputError naming `sceneFile` and "/technique" when `info` cannot render `sampleCount`
 // samples per pixel (a technique without MSAA, or a count other than 1, 2, 4, 8).
