@@ -58,13 +58,14 @@ public:
     // the file's own, else none, unless given.
     BufferRegistry render(const std::string& technique, std::uint32_t threads,
                           const nlohmann::json* options = nullptr, DrawStats* stats = nullptr,
-                          Precision precision = Precision::Exact) const {
+                          Precision precision = Precision::Exact, std::uint32_t samples = 1) const {
         Device device(DeviceConfig{64, threads});
         DrawStats localStats;
         TechniqueContext ctx = context(
             device, options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object(),
             precision);
         ctx.stats = stats ? stats : &localStats;
+        ctx.sampleCount = samples;
         BufferRegistry registry;
         buildTechnique(technique, ctx, desc_.file.string()).run(registry);
         return registry;
@@ -106,10 +107,11 @@ Surface opaqueShadingPoints(const SceneResources& res, const ForwardPassSetup& s
 // Renders `technique` at 1 and 2 threads, checks that the back buffers hold the same bytes, and
 // compares the image with golden/<scene>/<goldenName>.png (goldenName defaults to the technique).
 inline void checkGoldenAtOneAndTwoThreads(const BundledScene& scene, const std::string& technique,
-                                          const std::string& goldenName = {}) {
-    BufferRegistry one = scene.render(technique, 1);
-    BufferRegistry two = scene.render(technique, 2);
+                                          const std::string& goldenName = {}, std::uint32_t samples = 1) {
+    BufferRegistry one = scene.render(technique, 1, nullptr, nullptr, Precision::Exact, samples);
+    BufferRegistry two = scene.render(technique, 2, nullptr, nullptr, Precision::Exact, samples);
     CHECK(sameBytes(one.get(kBackBufferName), two.get(kBackBufferName)));
+    if (samples > 1) CHECK(sameBytes(one.get(backBufferTarget(samples)), two.get(backBufferTarget(samples))));
     checkGolden(one.get(kBackBufferName), scene.name(), goldenName.empty() ? technique : goldenName);
 }
 

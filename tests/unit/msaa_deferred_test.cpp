@@ -376,3 +376,30 @@ TEST_CASE("msaa deferred: the same bytes at 1, 2 and 7 threads") {
         CHECK(a.back().sampleCount() == 1);
     }
 }
+
+TEST_CASE("msaa forward+: with every sample in the tile bounds, forward-plus and forward-plus-amd equal forward at every sample") {
+    // 300 small point lights scattered over the quads: a light that lights some sample of a tile
+    // must be in the tile's list, so the tiled techniques' samples equal forward's bit for bit
+    // (the 1x property of forward_plus_test.cpp and the AMD scene tests). Bounds taken from
+    // sample 0 alone miss lights that only other samples' surfaces reach.
+    TestScene t = flatScene();
+    t.scene.lights.clear();
+    std::uint32_t seed = 12345u;
+    const auto uniform = [&seed](float lo, float hi) {
+        seed = seed * 1664525u + 1013904223u;  // Numerical Recipes' LCG: the same lights everywhere
+        return lo + (hi - lo) * float(seed >> 8) / float(1u << 24);
+    };
+    for (int i = 0; i < 300; ++i)
+        t.scene.lights.push_back(makeLight(LightType::Point, {uniform(-5.0f, 5.0f), uniform(-4.0f, 4.0f), uniform(-6.0f, 2.0f)},
+                                           {0, 0, -1}, uniform(0.3f, 1.2f), {uniform(0.2f, 1.0f), uniform(0.2f, 1.0f), uniform(0.2f, 1.0f)}));
+    for (const std::uint32_t samples : {2u, 4u, 8u}) {
+        CAPTURE(samples);
+        Rendered forward, plus, amd;
+        render(t, "forward", {{"projection", "d3d"}}, forward, Precision::Exact, 2, {kW, kH}, {}, samples);
+        render(t, "forward-plus", {{"projection", "d3d"}, {"lightLists", "unbounded"}, {"tileSize", 8}}, plus, Precision::Exact, 2,
+               {kW, kH}, {}, samples);
+        render(t, "forward-plus-amd", {{"projection", "d3d"}, {"shading", "3dgep"}}, amd, Precision::Exact, 2, {kW, kH}, {}, samples);
+        CHECK(sameBytes(forward.get(backBufferTarget(samples)), plus.get(backBufferTarget(samples))));
+        CHECK(sameBytes(forward.get(backBufferTarget(samples)), amd.get(backBufferTarget(samples))));
+    }
+}
