@@ -1495,7 +1495,7 @@ private:
         const glm::mat4 worldFromNode = worldFromParent * localFromNode(node, path);
         if (node.mesh != -1) {
             checkIndex(node.mesh, mModel.meshes.size(), path + "/mesh", "mesh");
-            mOut.instances.push_back({mMeshBase + node.mesh, worldFromNode, node.name});
+            mOut.instances.push_back({mMeshBase + node.mesh, worldFromNode, node.name, mOptions.lightGroups});
         }
         if (node.skin != -1 && !mSkinWarned) {
             warn(path + "/skin: skins are ignored (meshes are drawn in their bind pose)");

@@ -184,6 +184,18 @@ public:
             fail(path, std::to_string(v) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
         return static_cast<std::uint64_t>(v);
     }
+    // "lightGroups": an array of distinct group numbers 0..7 (PR&C D3D11 §11.4.2: one stencil bit
+    // each), as a bit mask.
+    std::uint8_t lightGroups(const Json& value, const std::string& path) const {
+        if (!value.is_array()) fail(path, "expected an array of light groups 0..7, got " + typeName(value));
+        std::uint32_t mask = 0;
+        for (std::size_t i = 0; i < value.size(); ++i) {
+            const std::uint64_t g = unsignedInteger(value[i], path + "/" + std::to_string(i), 0, 7);
+            if (mask & (1u << g)) fail(path + "/" + std::to_string(i), "light group " + std::to_string(g) + " is listed twice");
+            mask |= 1u << g;
+        }
+        return static_cast<std::uint8_t>(mask);
+    }
     bool boolean(const Json& value, const std::string& path) const {
         if (!value.is_boolean()) fail(path, "expected a boolean, got " + typeName(value));
         return value.get<bool>();
@@ -247,7 +259,7 @@ std::vector<ModelRef> parseModels(const Reader& r, const Json& value, const std:
         const Json& m = value[i];
         const std::string at = Reader::at(path, i);
         r.requireObject(m, at);
-        r.checkKeys(m, at, {"path", "translation", "rotation", "scale"});
+        r.checkKeys(m, at, {"path", "translation", "rotation", "scale", "lightGroups"});
         r.requireKey(m, at, "path");
         ModelRef model;
         std::filesystem::path file = r.nonEmptyString(m["path"], Reader::at(at, "path"));
@@ -272,6 +284,7 @@ std::vector<ModelRef> parseModels(const Reader& r, const Json& value, const std:
         // glTF's node order: T * R * S.
         model.worldFromFile = glm::translate(glm::mat4(1.0f), translation) * glm::mat4_cast(rotation) *
                               glm::scale(glm::mat4(1.0f), scale);
+        if (m.contains("lightGroups")) model.lightGroups = r.lightGroups(m["lightGroups"], Reader::at(at, "lightGroups"));
         models.push_back(std::move(model));
     }
     return models;
@@ -336,7 +349,8 @@ void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
 Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     r.requireObject(value, path);
     r.checkKeys(value, path,
-                {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "length", "enabled"});
+                {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "length", "enabled",
+                 "lightGroups"});
     r.requireKey(value, path, "type");
     const std::string type = r.string(value["type"], Reader::at(path, "type"));
     Light light;
@@ -380,6 +394,7 @@ Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     if (value.contains("color")) light.color = r.colour(value["color"], Reader::at(path, "color"));
     if (value.contains("intensity")) light.intensity = r.nonNegative(value["intensity"], Reader::at(path, "intensity"));
     if (value.contains("enabled")) light.enabled = r.boolean(value["enabled"], Reader::at(path, "enabled"));
+    if (value.contains("lightGroups")) light.lightGroups = r.lightGroups(value["lightGroups"], Reader::at(path, "lightGroups"));
     if (value.contains("name")) light.name = r.string(value["name"], Reader::at(path, "name"));
     return light;
 }
@@ -665,6 +680,7 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
         GltfLoadOptions options;
         options.loadImages = loadImages;
         options.worldFromFile = model.worldFromFile;
+        options.lightGroups = model.lightGroups;
         loadGltf(model.path, scene, options);
     }
 

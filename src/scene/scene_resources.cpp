@@ -47,6 +47,7 @@ SceneResources::SceneResources(const Scene& scene, const std::function<void(std:
             // glTF 2.0 §3.7.4: a negative determinant of the global transform reverses the winding.
             item.frontCounterClockwise = det >= 0.0f;
             item.material = mPrimitives[item.primitive].material;
+            item.lightGroups = inst.lightGroups;
             mDrawItems.push_back(item);
         }
     }

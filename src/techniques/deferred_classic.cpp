@@ -11,6 +11,7 @@
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/buffers/target_reader.h>
+#include <tessera/io/input_error.h>
 #include <tessera/math/det_math.h>
 #include <tessera/math/prc_gbuffer.h>
 #include <tessera/shading/prc_lighting.h>
@@ -261,13 +262,15 @@ struct ClassicSetup {
     std::function<void(std::size_t, std::string_view, const BufferRegistry&)> afterLightStep;
 };
 
-// Additive light pass states: no depth test for the quads (stencil EQUAL 1 with the mask).
-PassState lightPassState(const ClassicOptions& o) {
+// Additive light pass states: no depth test for the quads (stencil EQUAL 1 with the mask; with
+// light groups the light's groups against the geometry's, §11.4.2).
+PassState lightPassState(const ClassicOptions& o, bool lightGroups, std::uint8_t groups) {
     PassState p;
     p.rasterizer.cullMode = CullMode::Back;
     p.depthStencil.depthEnable = false;
     p.depthStencil.depthWriteEnable = false;
-    if (o.stencil) gbuffer_detail::stencilEqualOne(p);
+    if (lightGroups) gbuffer_detail::stencilLightGroups(p, groups);
+    else if (o.stencil) gbuffer_detail::stencilEqualOne(p);
     p.blend.renderTarget[0] = kAdditiveBlend;
     return p;
 }
@@ -294,7 +297,7 @@ void setQuad(ClassicDraw& d) {
 }
 
 std::vector<ClassicDraw> planDraws(const std::vector<Light>& lights, const ClassicOptions& o, const ForwardPassSetup& fwd,
-                                   const Camera& camera) {
+                                   const Camera& camera, bool lightGroups) {
     const LightVolumes volumes;
     const LightVolumeOptions fit{VolumeFit::Circumscribed, VolumeRotation::Robust};
     std::vector<ClassicDraw> draws;
@@ -305,7 +308,7 @@ std::vector<ClassicDraw> planDraws(const std::vector<Light>& lights, const Class
         d.index = std::uint32_t(i);
         d.lightExact = prcLightFrom<float>(l);
         d.lightReference = prcLightFrom<double>(l);
-        d.pass = lightPassState(o);
+        d.pass = lightPassState(o, lightGroups, l.lightGroups);
         setQuad(d);
         const bool local = l.type != LightType::Directional && std::isfinite(l.range);
         if (local && o.geometry == Geometry::Scissor) {
@@ -405,7 +408,12 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
         setup->shared.proj11 = setup->forward->clipFromView[1][1];
         setup->shared.screenPx = glm::vec2(float(ctx.width), float(ctx.height));
     }
-    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera);
+    // Light groups (§11.4.2) take all eight stencil bits; MSAA's edge pass needs one of them.
+    const bool lightGroups = gbuffer_detail::usesLightGroups(*ctx.resources);
+    if (lightGroups && ctx.sampleCount > 1)
+        throw inputError(file, "/lights", "the scene uses lightGroups, which take all eight stencil bits, and MSAA's edge pass "
+                                          "needs one of them: render it without --msaa, or without lightGroups");
+    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera, lightGroups);
 
     const bool reference = ctx.precision == Precision::Reference;
     const std::uint32_t samples = ctx.sampleCount;
@@ -452,7 +460,8 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    frame.add({"gbuffer", gbuffer, gbufferWrites, [setup, device, stats, variantCounts, res, lightPrePass, optimized, samples](BufferRegistry& reg) {
+    frame.add({"gbuffer", gbuffer, gbufferWrites,
+               [setup, device, stats, variantCounts, res, lightPrePass, optimized, samples, lightGroups](BufferRegistry& reg) {
                    RenderTargets rt;
                    rt.colors[0] = &reg.get("gbuffer.normal");
                    if (lightPrePass) {
@@ -465,7 +474,8 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    rt.depthStencil = &reg.get("depth");
                    PassState pass;
                    pass.depthStencil.depthFunc = ComparisonFunc::Less;
-                   if (setup->options.stencil) gbuffer_detail::stencilReplaceOne(pass);  // the lit-geometry mask
+                   // The lit-geometry mask, or each item's light groups as the reference (§11.4.2).
+                   if (setup->options.stencil || lightGroups) gbuffer_detail::stencilReplaceOne(pass);
                    const ForwardPassSetup& f = *setup->forward;
                    const auto configure = [&](auto& ps) {
                        ps.sampleCount = samples;
@@ -475,7 +485,8 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
                    // With MSAA the layout's targets are followed by the edge detectors' two.
                    const auto draw = [&]<template <bool> class PS, template <bool> class MsaaPS>(int layoutTargets, const char* name) {
                        if (samples == 1) {
-                           gbuffer_detail::drawOpaqueGBuffer<PS>(f, *device, *res, rt, pass, name, configure, stats, variantCounts);
+                           gbuffer_detail::drawOpaqueGBuffer<PS>(f, *device, *res, rt, pass, name, configure, stats, variantCounts,
+                                                                 lightGroups);
                        } else {
                            gbuffer_detail::bindEdgeTargets(rt, reg, layoutTargets);
                            gbuffer_detail::drawOpaqueGBuffer<MsaaPS>(f, *device, *res, rt, pass, name, configure, stats, variantCounts);

@@ -18,14 +18,17 @@ namespace tessera::gbuffer_detail {
 // Every opaque draw item (transparent materials are left to the forward pass) drawn with `pass`
 // (the item's winding and double-sidedness applied, as forward's opaque pass), through
 // PS<mayDiscard> whose `gather` and `data` this sets; `configure(ps)` sets the rest.
+// stencilRefFromLightGroups: the stencil reference is each item's light groups (PR&C D3D11
+// §11.4.2: "geometry writes ref = the OR of its groups").
 template <template <bool> class PS, class Configure>
 void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneResources& res, const RenderTargets& rt,
                        const PassState& pass, std::string_view variantPrefix, Configure&& configure, DrawStats* stats,
-                       std::map<std::string, std::uint64_t>* variantCounts) {
+                       std::map<std::string, std::uint64_t>* variantCounts, bool stencilRefFromLightGroups = false) {
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent()) continue;
         DrawState st = makeDrawState(pass, Viewport{0.0f, 0.0f, float(f.width), float(f.height), 0.0f, 1.0f});
+        if (stencilRefFromLightGroups) st.stencilRef = item.lightGroups;
         st.precision = f.precision;
         st.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
         st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
@@ -60,6 +63,25 @@ inline void stencilReplaceOne(PassState& p) {
     p.depthStencil.frontFace = replace;
     p.depthStencil.backFace = replace;
     p.stencilRef = 1;
+}
+// Light groups (PR&C D3D11 §11.4.2): a light passes where (stored & its groups) != 0, i.e.
+// ref 0 LESS (stored & ReadMask) with ReadMask = the light's groups; nothing written.
+inline void stencilLightGroups(PassState& p, std::uint8_t lightGroups) {
+    p.depthStencil.stencilEnable = true;
+    const StencilFaceDesc less{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Less};
+    p.depthStencil.frontFace = less;
+    p.depthStencil.backFace = less;
+    p.depthStencil.stencilReadMask = lightGroups;
+    p.depthStencil.stencilWriteMask = 0;
+    p.stencilRef = 0;
+}
+// Whether a scene uses light groups (any geometry outside group 0 alone, any light not in all).
+inline bool usesLightGroups(const SceneResources& res) {
+    for (const DrawItem& item : res.drawItems())
+        if (item.lightGroups != kDefaultGeometryLightGroups) return true;
+    for (const Light& l : res.scene().lights)
+        if (l.lightGroups != kAllLightGroups) return true;
+    return false;
 }
 inline void stencilEqualOne(PassState& p) {
     p.depthStencil.stencilEnable = true;

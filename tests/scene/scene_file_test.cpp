@@ -337,6 +337,25 @@ TEST_CASE("structural errors: required keys, conflicting camera forms, light typ
     expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 0, 0]}}])"), "/generate/0/box", "missing required key \"max\"");
 }
 
+TEST_CASE("light groups: models and lights list groups 0..7 as bit masks, with the defaults group 0 and every group") {
+    const SceneDescription d = tessera::parseSceneJson(
+        R"({"models": [{"path": "a.gltf"}, {"path": "b.gltf", "lightGroups": [1, 2]}, {"path": "c.gltf", "lightGroups": []}],
+            "lights": [{"type": "point", "position": [0, 0, 0]}, {"type": "point", "position": [0, 0, 0], "lightGroups": [7, 0]}]})",
+        kSceneFile);
+    REQUIRE(d.models.size() == 3);
+    CHECK(d.models[0].lightGroups == 0x01);  // kDefaultGeometryLightGroups
+    CHECK(d.models[1].lightGroups == 0x06);  // bits 1 and 2
+    CHECK(d.models[2].lightGroups == 0x00);  // in no group: no light reaches it under the stencil test
+    REQUIRE(d.explicitLights.size() == 2);
+    CHECK(d.explicitLights[0].lightGroups == 0xFF);
+    CHECK(d.explicitLights[1].lightGroups == 0x81);
+    expectError(R"({"models": [{"path": "a.gltf", "lightGroups": [8]}]})", "/models/0/lightGroups/0", "outside 0..7");
+    expectError(R"({"models": [{"path": "a.gltf", "lightGroups": [1, 1]}]})", "/models/0/lightGroups/1", "listed twice");
+    expectError(R"({"models": [{"path": "a.gltf", "lightGroups": 3}]})", "/models/0/lightGroups", "expected an array");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "lightGroups": [-1]}])"), "/lights/0/lightGroups/0",
+                "outside 0..7");
+}
+
 TEST_CASE("parseSceneFile: a missing file and a file with an error name the file") {
     const fs::path missing = fs::temp_directory_path() / "tessera-scene-test-does-not-exist.json";
     try {

@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include <tessera/scene/mesh.h>
+
 #include <tessera/scene/scene.h>
 
 namespace tessera {
@@ -17,6 +19,7 @@ struct GltfLoadOptions {
     bool loadImages = true;          // false: keep texture/image records, leave pixels empty (`tessera info`)
     glm::mat4 worldFromFile{1.0f};   // applied above the glTF's root nodes (the scene file's transform)
     int sceneIndex = -1;             // glTF scene to instantiate; -1: the file's default scene (or 0)
+    std::uint8_t lightGroups = kDefaultGeometryLightGroups;  // every instance's light groups (mesh.h)
     // Receives one line per warning (unsupported optional extensions, skipped point/line
     // primitives, ignored skins, ...), each prefixed by the file name; null: printed to stderr.
     std::vector<std::string>* warnings = nullptr;

@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include <tessera/scene/mesh.h>
+
 namespace tessera {
 
 // 3dgep's POINT, SPOT, DIRECTIONAL; Capsule: the Cookbook's segment light (ch. 1 "Capsule light").
@@ -26,6 +28,7 @@ struct Light {
     float spotInnerHalfAngleDeg = 0.0f;   // KHR innerConeAngle in degrees (3dgep ignores it)
     float length = 0.0f;  // capsule: the segment from positionWorld along directionWorld, world units
     bool enabled = true;
+    std::uint8_t lightGroups = kAllLightGroups;  // the geometry groups it lights (mesh.h; deferred-classic, light-prepass)
     std::string name;
 };
 

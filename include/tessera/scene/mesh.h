@@ -30,10 +30,16 @@ struct Mesh {
 };
 
 // One placement of a mesh in the world (a glTF node with a mesh).
+// Light groups (PR&C D3D11 §11.4.2): geometry belongs to groups, a light lights the geometry of
+// its groups; one bit per group, 0..7. Defaults: geometry in group 0, lights in every group.
+inline constexpr std::uint8_t kDefaultGeometryLightGroups = 0x01;
+inline constexpr std::uint8_t kAllLightGroups = 0xFF;
+
 struct MeshInstance {
     int mesh = -1;              // Scene::meshes index
     glm::mat4 worldFromObject{1.0f};
     std::string nodeName;
+    std::uint8_t lightGroups = kDefaultGeometryLightGroups;  // the scene file model's "lightGroups"
 };
 
 } // namespace tessera

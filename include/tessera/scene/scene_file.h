@@ -20,6 +20,7 @@ namespace tessera {
 struct ModelRef {
     std::filesystem::path path;      // resolved against the scene file's folder
     glm::mat4 worldFromFile{1.0f};   // from "translation" / "rotation" (quat xyzw) / "scale" (number or vec3)
+    std::uint8_t lightGroups = kDefaultGeometryLightGroups;  // "lightGroups": [0..7, ...] as a bit mask
 };
 
 // Where the camera comes from: "camera" absent (Auto: the first glTF camera, else Framing),

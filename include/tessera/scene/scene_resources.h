@@ -37,6 +37,7 @@ struct DrawItem {
     glm::mat3 normalWorldFromObject{1.0f};   // inverse transpose of the upper 3x3
     bool frontCounterClockwise = true;       // glTF: CCW unless the transform mirrors (det < 0)
     int material = -1;
+    std::uint8_t lightGroups = kDefaultGeometryLightGroups;  // its instance's (mesh.h)
 };
 
 // Which encoding each material slot's texture is decoded with.
