@@ -6,6 +6,7 @@
 // Usage: technique_bench [--techniques forward,deferred] [--scenario large|small]
 //                        [--lights 1,2,4,...] [--threads 1,2] [--frames 5] [--warmup 1]
 //                        [--width 1280 --height 720] [--options '{"tileSize": 8}']
+//                        [--msaa 4] (MSAA: adds the edge-pixel and per-sample shares)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
     std::string scenario = "large";
     std::vector<std::uint32_t> lightCounts = {1, 2, 4, 8, 16, 32, 64, 128, 256, 512};
     std::vector<std::uint32_t> threadCounts = {1, 2};
-    std::uint32_t frames = 5, warmup = 1, width = 1280, height = 720;
+    std::uint32_t frames = 5, warmup = 1, width = 1280, height = 720, msaa = 1;
     std::optional<nlohmann::json> options;  // --options: technique options for every technique run
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
         else if (a == "--warmup") warmup = splitUints(a, v).at(0);
         else if (a == "--width") width = splitUints(a, v).at(0);
         else if (a == "--height") height = splitUints(a, v).at(0);
+        else if (a == "--msaa") msaa = splitUints(a, v).at(0);
         else if (a == "--options") {
             options = nlohmann::json::parse(v, nullptr, false);
             if (options->is_discarded() || !options->is_object()) {
@@ -100,7 +102,10 @@ int main(int argc, char** argv) {
         }
     const SceneResources resources(scene, {}, policy);
 
-    std::printf("| technique | lights | threads | passes (median ms) | frame ms |\n|---|---|---|---|---|\n");
+    if (msaa > 1)
+        std::printf("| technique | lights | threads | msaa | passes (median ms) | frame ms | edge pixels | PS calls per sample |\n"
+                    "|---|---|---|---|---|---|---|---|\n");
+    else std::printf("| technique | lights | threads | passes (median ms) | frame ms |\n|---|---|---|---|---|\n");
     for (const std::string& technique : techniquesToRun)
         for (const std::uint32_t n : lightCounts)
             for (const std::uint32_t threads : threadCounts) {
@@ -113,6 +118,7 @@ int main(int argc, char** argv) {
                 ctx.camera = camera;
                 ctx.width = width;
                 ctx.height = height;
+                ctx.sampleCount = msaa;
                 ctx.options = options ? *options : technique == desc.technique ? desc.techniqueOptions : nlohmann::json::object();
                 ctx.stats = &stats;
                 std::optional<Frame> built;
@@ -152,7 +158,16 @@ int main(int argc, char** argv) {
                     std::snprintf(buf, sizeof buf, "%s%s %.2f", passes.empty() ? "" : ", ", name.c_str(), median(passMs[name]));
                     passes += buf;
                 }
-                std::printf("| %s | %u | %u | %s | %.2f |\n", technique.c_str(), n, threads, passes.c_str(), median(frameMs));
+                if (msaa > 1) {
+                    // Counters summed over every run, so shares: edge pixels of those classified,
+                    // per-sample pixel-shader calls of all calls.
+                    const double edges = stats.edgeTestedPixels ? 100.0 * double(stats.edgePixels) / double(stats.edgeTestedPixels) : 0.0;
+                    const double perSample = stats.psInvocations ? 100.0 * double(stats.psPerSample) / double(stats.psInvocations) : 0.0;
+                    std::printf("| %s | %u | %u | %u | %s | %.2f | %.2f%% | %.2f%% |\n", technique.c_str(), n, threads, msaa, passes.c_str(),
+                                median(frameMs), edges, perSample);
+                } else {
+                    std::printf("| %s | %u | %u | %s | %.2f |\n", technique.c_str(), n, threads, passes.c_str(), median(frameMs));
+                }
                 std::fflush(stdout);
             }
     return 0;
