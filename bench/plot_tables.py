@@ -159,6 +159,86 @@ def culling_by_tile(lines, out):
     plt.close(fig)
 
 
+def pass_times(cell):
+    """'clear 1.34, gbuffer 377.02, lights 665.57' -> [('clear', 1.34), ('gbuffer', 377.02), ...]"""
+    out = []
+    for part in cell.split(","):
+        m = re.match(r"\s*(.+?)\s+([-+]?\d+(?:\.\d+)?)\s*$", part)
+        if m:
+            out.append((m.group(1), float(m.group(2))))
+    return out
+
+
+def deferred_family(lines, out):
+    """Stacked per-pass bars of the G-buffer techniques (issue 14's two tables), one panel per scenario."""
+    _, cookbook = table_after(lines, "## deferred-cookbook beside deferred and forward (issue 14)", "technique")
+    _, classic = table_after(lines, "### deferred-classic and light-prepass (PR&C D3D11 ch. 11), same machine, commit after "
+                                    "`deferred-classic`", "technique")
+    bars = {"large": [], "small": []}
+    for r in cookbook:  # technique | scenario | lights | passes | frame
+        bars[r[1]].append(("%s, %s lights" % (r[0], r[2]), pass_times(r[3])))
+    for r in classic:  # technique | scenario | lights | geometry | passes | frame
+        bars[r[1]].append(("%s (%s), %s lights" % (r[0], r[3], r[2]), pass_times(r[4])))
+    names = []
+    for rows in bars.values():
+        for _, passes in rows:
+            for n, _ in passes:
+                if n not in names:
+                    names.append(n)
+    colours = dict(zip(names, plt.rcParams["axes.prop_cycle"].by_key()["color"] * 3))
+    fig, axes = plt.subplots(1, 2, figsize=(16, 7))
+    for ax, scenario in zip(axes, ["large", "small"]):
+        rows = bars[scenario]
+        for i, (label, passes) in enumerate(rows):
+            left = 0.0
+            for n, ms in passes:
+                ax.barh(i, ms, left=left, color=colours[n], label=n if i == 0 or n not in [p for p, _ in rows[0][1]] else None)
+                left += ms
+        # Linear, so that the stacks read as shares; frames past 5 s are cut and labelled.
+        limit = 5000.0
+        for i, (label, passes) in enumerate(rows):
+            total = sum(ms for _, ms in passes)
+            if total > limit:
+                ax.text(limit * 0.98, i, "%.0f ms" % total, va="center", ha="right", fontsize=7, color="white")
+        ax.set_xlim(0, min(limit, max(sum(ms for _, ms in p) for _, p in rows) * 1.05))
+        ax.set_yticks(range(len(rows)))
+        ax.set_yticklabels([label for label, _ in rows], fontsize=7)
+        ax.invert_yaxis()
+        ax.set_xlabel("frame ms, 2 threads, stacked by pass")
+        ax.set_title("%s lights, Sponza 1280x720" % scenario)
+        ax.grid(True, axis="x", alpha=0.3)
+        handles, labels = ax.get_legend_handles_labels()
+        seen = {}
+        for h, l in zip(handles, labels):
+            seen.setdefault(l, h)
+        ax.legend(seen.values(), seen.keys(), fontsize=7, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "deferred-family-passes.png"), dpi=80)
+    plt.close(fig)
+
+
+def msaa(lines, out):
+    """1x against 4x frame time per technique (the MSAA table), with the per-sample share."""
+    _, rows = table_after(lines, "## MSAA: what per-sample shading costs (issue 14)", "technique")
+    techniques = []
+    for r in rows:
+        if r[0] not in techniques:
+            techniques.append(r[0])
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for k, samples in enumerate(["1", "4"]):
+        ms = [next((number(r[3]) for r in rows if r[0] == t and r[1] == samples), 0.0) for t in techniques]
+        ax.bar([i + 0.4 * k for i in range(len(techniques))], ms, width=0.4, label="%sx" % samples)
+    ax.set_xticks([i + 0.2 for i in range(len(techniques))])
+    ax.set_xticklabels(techniques, fontsize=8, rotation=15)
+    ax.set_ylabel("frame ms, 2 threads")
+    ax.set_title("MSAA 1x and 4x, Sponza 1280x720, 64 small lights")
+    ax.grid(True, axis="y", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "msaa.png"), dpi=90)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--results", default=os.path.join(REPO, "bench", "RESULTS.md"))
@@ -172,8 +252,10 @@ def main():
     culling(lines, args.out)
     culling_vs_lights(lines, args.out)
     culling_by_tile(lines, args.out)
+    deferred_family(lines, args.out)
+    msaa(lines, args.out)
     print("plot_tables.py: wrote article-sweep.png, scaling.png, culling-scaling.png, culling-vs-lights.png, "
-          "culling-by-tile.png to " + args.out)
+          "culling-by-tile.png, deferred-family-passes.png, msaa.png to " + args.out)
 
 
 if __name__ == "__main__":
