@@ -223,6 +223,7 @@ TEST_CASE("msaa deferred: every edge sample holds the colour of the surface at i
         {"deferred-killzone", {{"projection", "d3d"}}},
         {"deferred-classic", nlohmann::json::object()},
         {"deferred-classic", {{"gbuffer", "optimized"}, {"normalEncoding", "safe"}, {"lightGeometry", "scissor"}}},
+        {"deferred-classic", {{"stencil", true}, {"lightGeometry", "volumes"}}},
         {"light-prepass", {{"msaaFinal", "perSample"}}},
         {"deferred-cookbook", nlohmann::json::object()},
         {"deferred-cookbook", {{"lightGeometry", "quads"}, {"background", "stencil"}}},
