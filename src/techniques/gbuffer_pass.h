@@ -64,16 +64,20 @@ inline void stencilReplaceOne(PassState& p) {
     p.depthStencil.backFace = replace;
     p.stencilRef = 1;
 }
+// A stencil test that writes nothing: both faces `func` with KEEP, ReadMask `readMask`, reference `ref`.
+inline void stencilTestOnly(PassState& p, ComparisonFunc func, std::uint8_t readMask, std::uint8_t ref) {
+    p.depthStencil.stencilEnable = true;
+    const StencilFaceDesc face{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, func};
+    p.depthStencil.frontFace = face;
+    p.depthStencil.backFace = face;
+    p.depthStencil.stencilReadMask = readMask;
+    p.depthStencil.stencilWriteMask = 0;
+    p.stencilRef = ref;
+}
 // Light groups (PR&C D3D11 §11.4.2): a light passes where (stored & its groups) != 0, i.e.
 // ref 0 LESS (stored & ReadMask) with ReadMask = the light's groups; nothing written.
 inline void stencilLightGroups(PassState& p, std::uint8_t lightGroups) {
-    p.depthStencil.stencilEnable = true;
-    const StencilFaceDesc less{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Less};
-    p.depthStencil.frontFace = less;
-    p.depthStencil.backFace = less;
-    p.depthStencil.stencilReadMask = lightGroups;
-    p.depthStencil.stencilWriteMask = 0;
-    p.stencilRef = 0;
+    stencilTestOnly(p, ComparisonFunc::Less, lightGroups, 0);
 }
 // Whether a scene uses light groups (any geometry outside group 0 alone, any light not in all).
 inline bool usesLightGroups(const SceneResources& res) {

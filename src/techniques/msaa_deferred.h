@@ -74,13 +74,7 @@ struct PerSample : PS {
 inline PassState withEdgeTest(PassState p, bool edgePixels) {
     const std::uint8_t bit = edgePixels ? kEdgeStencilBit : 0;
     if (!p.depthStencil.stencilEnable) {
-        p.depthStencil.stencilEnable = true;
-        const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
-        p.depthStencil.frontFace = equal;
-        p.depthStencil.backFace = equal;
-        p.depthStencil.stencilReadMask = kEdgeStencilBit;
-        p.depthStencil.stencilWriteMask = 0;
-        p.stencilRef = bit;
+        stencilTestOnly(p, ComparisonFunc::Equal, kEdgeStencilBit, bit);
         return p;
     }
     const auto keepsEqual = [](const StencilFaceDesc& f) {
