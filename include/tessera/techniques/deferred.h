@@ -68,8 +68,12 @@ inline constexpr std::array<std::string_view, 11> kKillzoneOptionKeys{
 //                      (16384 per row): the count query's samples, 0xFFFFFFFF for directional
 //                      and disabled lights (not counted)
 // All G-buffer targets are cleared to the demo's clear colour (ClearRenderTargetPass on
-// g_pGBufferRenderTarget), depth to 1, stencil to 0. Precision reference and fast are
-// InputErrors naming "/precision".
+// g_pGBufferRenderTarget), depth to 1, stencil to 0. Every precision mode runs (README
+// "Precision modes").
+// MSAA (TechniqueContext::sampleCount > 1; README "MSAA"): the G-buffer, depth and colour
+// targets above hold that many samples (per-tile, per-light and heat-map buffers one), the image is drawn into "backbuffer.msaa" and resolved into "backbuffer", and the
+// G-buffer pass adds "msaa.surface" and "msaa.coverage" (the edge detectors' inputs, RGBA32F) and
+// "edges" (R32_FLOAT, 1 at the samples of pixels shaded per sample; option "msaaEdges").
 Frame buildDeferred(const TechniqueContext& context);
 Frame buildDeferredKillzone(const TechniqueContext& context);
 

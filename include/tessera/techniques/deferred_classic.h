@@ -48,6 +48,10 @@ inline constexpr std::array<std::string_view, 8> kLightPrePassOptionKeys{
 // space); "depth" D24_UNORM_S8_UINT; precision reference adds "accumulation" and
 // "backbuffer.reference" R32G32B32A32_FLOAT. Passes: clear, gbuffer, lights (step "shade" per
 // light for --dump-lights), [present], transparent.
+// MSAA (TechniqueContext::sampleCount > 1; README "MSAA"): the G-buffer, depth and colour
+// targets above hold that many samples (per-tile, per-light and heat-map buffers one), the image is drawn into "backbuffer.msaa" and resolved into "backbuffer", and the
+// G-buffer pass adds "msaa.surface" and "msaa.coverage" (the edge detectors' inputs, RGBA32F) and
+// "edges" (R32_FLOAT, 1 at the samples of pixels shaded per sample; option "msaaEdges").
 Frame buildDeferredClassic(const TechniqueContext& context);
 
 // The `light-prepass` technique (PR&C D3D11 ch. 11 §11.3, after Engel 2009): a 32 B/px G-buffer

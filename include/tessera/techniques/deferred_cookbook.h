@@ -57,6 +57,10 @@ inline constexpr glm::vec3 kCookbookAmbientUp{0.1f, 0.1f, 0.15f};
 // precision reference adds "accumulation" R32G32B32A32_FLOAT (the double lighting) and
 // "backbuffer.reference". Passes: clear, gbuffer, lights (one step "shade" per light for
 // --dump-lights), [present], transparent.
+// MSAA (TechniqueContext::sampleCount > 1; README "MSAA"): the G-buffer, depth and colour
+// targets above hold that many samples (per-tile, per-light and heat-map buffers one), the image is drawn into "backbuffer.msaa" and resolved into "backbuffer", and the
+// G-buffer pass adds "msaa.surface" and "msaa.coverage" (the edge detectors' inputs, RGBA32F) and
+// "edges" (R32_FLOAT, 1 at the samples of pixels shaded per sample; option "msaaEdges").
 Frame buildDeferredCookbook(const TechniqueContext& context);
 
 } // namespace tessera

@@ -76,7 +76,9 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusOptionKeys{
 //                           counts, so that the culling pass's time is the culling's.
 //   "lightlist.counters"    R32_UINT, 8 x 2: row 0 opaque, row 1 transparent, the fields of
 //                           LightListCounters in order
-// Precision reference and fast are InputErrors naming "/precision".
+// Every precision mode runs (README "Precision modes"). With MSAA the back buffer and depth hold
+// TechniqueContext::sampleCount samples, the tile bounds take every sample, and the image is
+// resolved last (README "MSAA").
 Frame buildForwardPlus(const TechniqueContext& context);
 
 // The demo's list sizes (3dgep article §4.3.2, §4.5; ForwardPlusRendering.hlsl, main.cpp).

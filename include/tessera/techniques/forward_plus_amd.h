@@ -65,7 +65,9 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusAmdOptionKeys{"shad
 //                           tilesOverLocal / droppedLocal = tiles past LIGHT_CAPACITY and the
 //                           lights they lost, global fields 0 (the pool is sized to fit),
 //                           maxTileCount = largest unclamped count, nonEmptyTiles.
-// Precision reference and fast are InputErrors naming "/precision".
+// Every precision mode runs (README "Precision modes"). With MSAA the back buffer and depth hold
+// TechniqueContext::sampleCount samples, the tile bounds take every sample, and the image is
+// resolved last (README "MSAA").
 Frame buildForwardPlusAmd(const TechniqueContext& context);
 
 // The smallest sphere around a spot light's lit region: the spherical sector of radius R (the

@@ -80,7 +80,11 @@ inline constexpr std::array<std::string_view, 11> kTiledDeferredOptionKeys{
 //                       ascending light index (the fixed order of the group-shared
 //                       InterlockedAdd, compute/dispatch.h); 16384 indices per row
 //   "tiles.depthRange"  R32G32_UINT, one texel per tile: the reduction's (sMinZ, sMaxZ) bits
-// Precision reference and fast are InputErrors naming "/precision".
+// Every precision mode runs (README "Precision modes").
+// MSAA (TechniqueContext::sampleCount > 1; README "MSAA"): the G-buffer, depth and colour
+// targets above hold that many samples (per-tile, per-light and heat-map buffers one), the image is drawn into "backbuffer.msaa" and resolved into "backbuffer", and the
+// G-buffer pass adds "msaa.surface" and "msaa.coverage" (the edge detectors' inputs, RGBA32F) and
+// "edges" (R32_FLOAT, 1 at the samples of pixels shaded per sample; option "msaaEdges").
 Frame buildTiledDeferred(const TechniqueContext& context);
 
 // The sample's defaults (ShaderDefines.h).
