@@ -230,14 +230,17 @@ TEST_CASE("msaa deferred: every edge sample holds the colour of the surface at i
         {"tiled-deferred", {{"shading", "3dgep"}}},
         {"tiled-deferred", {{"shading", "3dgep"}, {"gbuffer", "float"}, {"position", "gbuffer"}}},
     };
-    for (const auto& [technique, options] : runs)
+    for (const auto& run : runs)
         for (const char* detector : {"coverage", "depthNormal", "all"})
             for (const std::uint32_t samples : {2u, 4u, 8u}) {
+                // Named copies: clang 14 cannot capture structured bindings in CAPTURE's lambda.
+                const std::string& technique = run.first;
+                const std::string optionsText = run.second.dump();
                 CAPTURE(technique);
-                CAPTURE(options.dump());
+                CAPTURE(optionsText);
                 CAPTURE(detector);
                 CAPTURE(samples);
-                nlohmann::json o = options;
+                nlohmann::json o = run.second;
                 o["msaaEdges"] = detector;
                 Rendered r;
                 DrawStats stats;
