@@ -694,12 +694,7 @@ int render(const std::vector<std::string_view>& args) {
     }
     // Light groups are PR&C's stencil groups: deferred-classic and light-prepass honour them.
     if (desc.technique != "deferred-classic" && desc.technique != "light-prepass") {
-        const bool groups = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                        [](const tessera::Light& l) { return l.lightGroups != tessera::kAllLightGroups; }) ||
-                            std::any_of(scene.instances.begin(), scene.instances.end(), [](const tessera::MeshInstance& i) {
-                                return i.lightGroups != tessera::kDefaultGeometryLightGroups;
-                            });
-        if (groups)
+        if (scene.usesLightGroups())
             warn(sceneFile.string() + " uses lightGroups; " + desc.technique +
                  " lights every surface with every light (deferred-classic and light-prepass honour the groups)");
     }

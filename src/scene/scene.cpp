@@ -41,4 +41,12 @@ std::size_t Scene::memoryBytes() const {
     return bytes;
 }
 
+bool Scene::usesLightGroups() const {
+    for (const MeshInstance& i : instances)
+        if (i.lightGroups != kDefaultGeometryLightGroups) return true;
+    for (const Light& l : lights)
+        if (l.lightGroups != kAllLightGroups) return true;
+    return false;
+}
+
 } // namespace tessera

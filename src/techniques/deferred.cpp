@@ -356,14 +356,9 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         return p;
     };
     const auto shade = [&](const PassState& pass, const Light& light, const PS& ps) {
-        if (!msaa) {
-            stencil.drew(drawLightGeometry(setup, device, pass, shadeTargets, light, &ps, nullptr, stats));
-            return;
-        }
-        stencil.drew(drawLightGeometry(setup, device, gbuffer_detail::withEdgeTest(pass, false), shadeTargets, light, &ps, nullptr, stats));
-        const gbuffer_detail::PerSample<PS> perSample{ps};
-        stencil.drew(drawLightGeometry(setup, device, gbuffer_detail::withEdgeTest(pass, true), shadeTargets, light, &perSample,
-                                       nullptr, stats));
+        gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, [&](const PassState& state, const auto& shader) {
+            stencil.drew(drawLightGeometry(setup, device, state, shadeTargets, light, &shader, nullptr, stats));
+        });
     };
     const auto stepDone = [&](std::size_t light, std::string_view step) {
         if (setup.afterLightStep) setup.afterLightStep(light, step, reg);
@@ -582,13 +577,9 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                        Light quad;
                        quad.type = LightType::Directional;
                        const ComposePS ps{&setup->inputs};
-                       if (!msaa) {
-                           drawLightGeometry(*setup, *device, pass, rt, quad, &ps, nullptr, stats);
-                       } else {
-                           drawLightGeometry(*setup, *device, gbuffer_detail::withEdgeTest(pass, false), rt, quad, &ps, nullptr, stats);
-                           const gbuffer_detail::PerSample<ComposePS> perSample{ps};
-                           drawLightGeometry(*setup, *device, gbuffer_detail::withEdgeTest(pass, true), rt, quad, &perSample, nullptr, stats);
-                       }
+                       gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, [&](const PassState& state, const auto& shader) {
+                           drawLightGeometry(*setup, *device, state, rt, quad, &shader, nullptr, stats);
+                       });
                        if (reference) {
                            Surface& composedRef = reg.get(backReference);
                            storeAsUnorm(composedRef, composedRef);

@@ -374,12 +374,8 @@ void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, S
             DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, shader);
             if (stats) *stats += s;
         };
-        if (!msaa) {
-            drawWith(d.pass, ps);
-        } else {  // §11.5: one sample where the samples agree, every sample at edge pixels
-            drawWith(gbuffer_detail::withEdgeTest(d.pass, false), ps);
-            drawWith(gbuffer_detail::withEdgeTest(d.pass, true), gbuffer_detail::PerSample<ClassicLightPS<T>>{ps});
-        }
+        // §11.5: one sample where the samples agree, every sample at edge pixels.
+        gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, d.pass, ps, drawWith);
         if (variantCounts) ++(*variantCounts)["classic-light"];
         if (setup.afterLightStep) setup.afterLightStep(d.index, "shade", reg);
     }
@@ -409,7 +405,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
         setup->shared.screenPx = glm::vec2(float(ctx.width), float(ctx.height));
     }
     // Light groups (§11.4.2) take all eight stencil bits; MSAA's edge pass needs one of them.
-    const bool lightGroups = gbuffer_detail::usesLightGroups(*ctx.resources);
+    const bool lightGroups = ctx.resources->scene().usesLightGroups();
     if (lightGroups && ctx.sampleCount > 1)
         throw inputError(file, "/lights", "the scene uses lightGroups, which take all eight stencil bits, and MSAA's edge pass "
                                           "needs one of them: render it without --msaa, or without lightGroups");

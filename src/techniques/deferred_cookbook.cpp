@@ -410,12 +410,7 @@ void runLights(const CookbookSetup& setup, Device& device, BufferRegistry& reg, 
             DrawStats s = device.draw(state, rt, std::span<const LocalVertex>(d.vertices), d.indices, vs, shader);
             if (stats) *stats += s;
         };
-        if (!msaa) {
-            drawWith(pass, ps);
-        } else {  // once per pixel where the edge bit is clear, once per sample where it is set
-            drawWith(gbuffer_detail::withEdgeTest(pass, false), ps);
-            drawWith(gbuffer_detail::withEdgeTest(pass, true), gbuffer_detail::PerSample<CookbookLightPS<T, kFast>>{ps});
-        }
+        gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, drawWith);
         if (variantCounts) ++(*variantCounts)[std::string("cookbook-light:") + typeName(d.light.type) + (d.quad ? "(quad)" : "")];
         if (setup.afterLightStep && d.light.index != kAmbientLightTerm)
             setup.afterLightStep(d.light.index, "shade", reg);

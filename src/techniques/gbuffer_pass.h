@@ -55,15 +55,6 @@ void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneRes
 inline constexpr std::array<glm::vec3, 4> kQuadClip{{{-1.0f, 1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}}};
 inline constexpr std::array<std::uint32_t, 6> kQuadIndices{0, 1, 2, 1, 3, 2};  // the strip's second triangle is (v1, v3, v2)
 
-// The stencil mask of lit geometry (PR&C D3D11 §11.4.2; the Cookbook's companion code): the
-// G-buffer pass writes 1 under geometry (ALWAYS / REPLACE, ref 1), the light passes test EQUAL 1.
-inline void stencilReplaceOne(PassState& p) {
-    p.depthStencil.stencilEnable = true;
-    const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
-    p.depthStencil.frontFace = replace;
-    p.depthStencil.backFace = replace;
-    p.stencilRef = 1;
-}
 // A stencil test that writes nothing: both faces `func` with KEEP, ReadMask `readMask`, reference `ref`.
 inline void stencilTestOnly(PassState& p, ComparisonFunc func, std::uint8_t readMask, std::uint8_t ref) {
     p.depthStencil.stencilEnable = true;
@@ -74,25 +65,20 @@ inline void stencilTestOnly(PassState& p, ComparisonFunc func, std::uint8_t read
     p.depthStencil.stencilWriteMask = 0;
     p.stencilRef = ref;
 }
+// The stencil mask of lit geometry (PR&C D3D11 §11.4.2; the Cookbook's companion code): the
+// G-buffer pass writes 1 under geometry (ALWAYS / REPLACE, ref 1), the light passes test EQUAL 1.
+inline void stencilReplaceOne(PassState& p) {
+    p.depthStencil.stencilEnable = true;
+    const StencilFaceDesc replace{StencilOp::Keep, StencilOp::Keep, StencilOp::Replace, ComparisonFunc::Always};
+    p.depthStencil.frontFace = replace;
+    p.depthStencil.backFace = replace;
+    p.stencilRef = 1;
+}
+inline void stencilEqualOne(PassState& p) { stencilTestOnly(p, ComparisonFunc::Equal, 0xFF, 1); }
 // Light groups (PR&C D3D11 §11.4.2): a light passes where (stored & its groups) != 0, i.e.
 // ref 0 LESS (stored & ReadMask) with ReadMask = the light's groups; nothing written.
 inline void stencilLightGroups(PassState& p, std::uint8_t lightGroups) {
     stencilTestOnly(p, ComparisonFunc::Less, lightGroups, 0);
-}
-// Whether a scene uses light groups (any geometry outside group 0 alone, any light not in all).
-inline bool usesLightGroups(const SceneResources& res) {
-    for (const DrawItem& item : res.drawItems())
-        if (item.lightGroups != kDefaultGeometryLightGroups) return true;
-    for (const Light& l : res.scene().lights)
-        if (l.lightGroups != kAllLightGroups) return true;
-    return false;
-}
-inline void stencilEqualOne(PassState& p) {
-    p.depthStencil.stencilEnable = true;
-    const StencilFaceDesc equal{StencilOp::Keep, StencilOp::Keep, StencilOp::Keep, ComparisonFunc::Equal};
-    p.depthStencil.frontFace = equal;
-    p.depthStencil.backFace = equal;
-    p.stencilRef = 1;
 }
 
 // Precision reference: the float "accumulation" to the back buffer as an UNORM target stores a PS

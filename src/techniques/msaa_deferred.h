@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include <tessera/buffers/target_reader.h>
 #include <tessera/math/msaa_edges.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
@@ -91,6 +92,19 @@ inline PassState withEdgeTest(PassState p, bool edgePixels) {
     return p;
 }
 
+// Draws `ps` under `pass` through `draw(state, shader)`; with MSAA twice: once per pixel where the
+// edge bit is clear, once per sample (PerSample<PS>) where it is set. The shader reads its
+// G-buffer sample through SV_SampleIndex, which is 0 when it runs per pixel.
+template <class PS, class Draw>
+void drawPerPixelThenEdgeSamples(bool msaa, const PassState& pass, const PS& ps, Draw&& draw) {
+    if (!msaa) {
+        draw(pass, ps);
+        return;
+    }
+    draw(withEdgeTest(pass, false), ps);
+    draw(withEdgeTest(pass, true), PerSample<PS>{ps});
+}
+
 // The "msaaEdges" option: coverage | depthNormal | all.
 inline EdgeDetector parseEdgeDetector(const nlohmann::json& options, EdgeDetector fallback, const std::string& file) {
     const std::string v = optionEnum(options, "msaaEdges", {"coverage", "depthNormal", "all"}, std::string(edgeDetectorName(fallback)), file);
@@ -110,6 +124,17 @@ inline void bindEdgeTargets(RenderTargets& rt, BufferRegistry& reg, int layoutTa
     rt.colors[std::size_t(layoutTargets) + 1] = &reg.get(std::string(kEdgeCoverageTarget));
 }
 
+// The detector's verdict for pixel (x, y) from the EdgeSample targets (all their samples).
+inline bool edgePixelAt(EdgeDetector detector, const TargetReader& surface, const TargetReader& coverage, std::uint32_t sampleCount,
+                        std::uint32_t x, std::uint32_t y) {
+    std::array<EdgeSample, 8> samples{};
+    for (std::uint32_t i = 0; i < sampleCount; ++i) {
+        const glm::vec4 a = surface.load(x, y, i), b = coverage.load(x, y, i);
+        samples[i] = EdgeSample{glm::vec3(a), a.w, b.y, b.x != 0.0f};
+    }
+    return isEdgePixel(detector, std::span<const EdgeSample>(samples.data(), sampleCount));
+}
+
 struct QuadVertex {
     glm::vec3 posClip;
 };
@@ -124,18 +149,11 @@ struct EdgeMarkPS {
     using Varyings = NoVaryings;
     static constexpr int kTargetCount = 1;
     static constexpr bool kMayDiscard = true;
-    const Surface* surface = nullptr;
-    const Surface* coverage = nullptr;
+    TargetReader surface, coverage;
+    std::uint32_t sampleCount = 1;
     EdgeDetector detector = EdgeDetector::Coverage;
     void operator()(const PixelInput<NoVaryings>& in, PixelOutput<1>& out) const {
-        const auto x = std::uint32_t(in.posWindow.x), y = std::uint32_t(in.posWindow.y);
-        std::array<EdgeSample, 8> samples{};
-        const std::uint32_t n = surface->sampleCount();
-        for (std::uint32_t s = 0; s < n; ++s) {
-            const glm::vec4 a = surface->load(x, y, s), b = coverage->load(x, y, s);
-            samples[s] = EdgeSample{glm::vec3(a), a.w, b.y, b.x != 0.0f};
-        }
-        if (!isEdgePixel(detector, std::span<const EdgeSample>(samples.data(), n))) {
+        if (!edgePixelAt(detector, surface, coverage, sampleCount, std::uint32_t(in.posWindow.x), std::uint32_t(in.posWindow.y))) {
             out.discard();
             return;
         }
@@ -166,7 +184,7 @@ inline Pass edgePass(Device* device, DrawStats* stats, EdgeDetector detector) {
                 rt.depthStencil = &reg.get("depth");
                 std::array<QuadVertex, 4> quad;
                 for (std::size_t i = 0; i < 4; ++i) quad[i].posClip = kQuadClip[i];
-                const EdgeMarkPS ps{&reg.get(surface), &reg.get(coverage), detector};
+                const EdgeMarkPS ps{TargetReader(reg.get(surface)), TargetReader(reg.get(coverage)), n, detector};
                 DrawStats s = device->draw(st, rt, std::span<const QuadVertex>(quad), kQuadIndices, QuadVS{}, ps);
                 s.edgeTestedPixels = std::uint64_t(w) * h;
                 s.edgePixels = s.samplesPassed / n;

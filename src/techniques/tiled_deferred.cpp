@@ -212,8 +212,7 @@ struct TiledSetup {
     std::uint32_t samples = 1;
     std::vector<std::vector<float>> sampleDepth;
     std::vector<DepthImageView> sampleViews;
-    const Surface* edgeSurface = nullptr;
-    const Surface* edgeCoverage = nullptr;
+    TargetReader edgeSurface, edgeCoverage;
     Surface* edges = nullptr;
     std::vector<std::uint64_t> shadedPixels, shadedSamples, edgePixels;
     TargetReader accumulation, diffuse, specular, normal, position;
@@ -390,12 +389,7 @@ void watchPixel(const TiledSetup& f, std::span<const std::uint32_t> list, std::u
 
 // RequiresPerSampleShading (or the chosen detector) from the G-buffer pass's EdgeSample targets.
 bool edgePixel(const TiledSetup& f, std::uint32_t x, std::uint32_t y) {
-    std::array<EdgeSample, 8> samples{};
-    for (std::uint32_t i = 0; i < f.samples; ++i) {
-        const glm::vec4 a = f.edgeSurface->load(x, y, i), b = f.edgeCoverage->load(x, y, i);
-        samples[i] = EdgeSample{glm::vec3(a), a.w, b.y, b.x != 0.0f};
-    }
-    return isEdgePixel(f.options.edges, std::span<const EdgeSample>(samples.data(), f.samples));
+    return gbuffer_detail::edgePixelAt(f.options.edges, f.edgeSurface, f.edgeCoverage, f.samples, x, y);
 }
 
 // A one-surface pixel: sample 0's results written to its other samples (the sample's
@@ -658,8 +652,8 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
                    }
                    s.depthView = s.sampleViews[0];
                    if (s.samples > 1) {
-                       s.edgeSurface = &reg.get(std::string(gbuffer_detail::kEdgeSurfaceTarget));
-                       s.edgeCoverage = &reg.get(std::string(gbuffer_detail::kEdgeCoverageTarget));
+                       s.edgeSurface = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeSurfaceTarget)));
+                       s.edgeCoverage = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeCoverageTarget)));
                        s.edges = &reg.get(std::string(gbuffer_detail::kEdgesBuffer));
                    }
                    const std::size_t tileCountTotal = s.lists.size();

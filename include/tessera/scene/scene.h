@@ -45,6 +45,8 @@ struct Scene {
     Bounds bounds() const;
     std::uint64_t triangleCount() const;   // over instances (an instanced mesh counts each time)
     std::size_t memoryBytes() const;       // geometry + decoded images (without mips)
+    // Whether any instance is outside group 0 alone or any light outside every group (mesh.h).
+    bool usesLightGroups() const;
 };
 
 } // namespace tessera
