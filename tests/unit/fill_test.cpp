@@ -12,6 +12,7 @@
 #include <tessera/buffers/fill.h>
 #include <tessera/buffers/surface.h>
 #include <tessera/buffers/texel_codec.h>
+#include <tessera/state/depth_stencil_state.h>
 
 using namespace tessera;
 
@@ -91,5 +92,28 @@ TEST_CASE("clearDepthStencilRect clears exactly the rectangle's texels, all samp
                 }
         CHECK(inside);
         CHECK(outside);
+    }
+}
+
+TEST_CASE("a stencil clear with a write mask changes only the mask's bits, as a REPLACE draw with StencilWriteMask would") {
+    // writeStencil (depth_stencil_state.h) is the draw's rule: (stored & ~mask) | (value & mask).
+    for (const Format f : {Format::D24_UNORM_S8_UINT, Format::D32_FLOAT_S8X24_UINT}) {
+        Surface s({9, 5, f, 4});
+        s.clearDepthStencil(true, 0.25f, true, 0x00);
+        // Every stencil value 0..255 somewhere, through full clears of single texels' rectangles.
+        for (std::uint32_t k = 0; k < 9 * 5; ++k)
+            s.clearDepthStencilRect(k % 9, k / 9, k % 9 + 1, k / 9 + 1, false, 0.0f, true, std::uint8_t(k * 37 + 11));
+        const Surface before = s;
+        s.clearDepthStencil(false, 0.0f, true, 0x01, 0x7F);  // deferred's per-light clear under MSAA
+        s.clearDepthStencilRect(2, 1, 6, 4, false, 0.0f, true, 0xFF, 0x80);
+        bool same = true;
+        for (std::uint32_t y = 0; y < 5; ++y)
+            for (std::uint32_t x = 0; x < 9; ++x)
+                for (std::uint32_t i = 0; i < 4; ++i) {
+                    std::uint8_t expected = writeStencil(before.loadStencil(x, y, i), 0x01, 0x7F);
+                    if (x >= 2 && x < 6 && y >= 1 && y < 4) expected = writeStencil(expected, 0xFF, 0x80);
+                    same = same && s.loadStencil(x, y, i) == expected && s.loadDepth(x, y, i) == before.loadDepth(x, y, i);
+                }
+        CHECK(same);
     }
 }
