@@ -3,6 +3,7 @@
 find_package(glm CONFIG REQUIRED)
 find_package(TBB CONFIG REQUIRED)
 find_package(hwy CONFIG REQUIRED)     # Highway (libhwy-dev): portable SIMD with runtime dispatch, target hwy::hwy
+find_package(embree 3 CONFIG REQUIRED)  # Intel Embree 3.13 (libembree-dev): shadow rays, target `embree`
 if(TESSERA_WITH_OIIO)
 find_package(OpenImageIO CONFIG REQUIRED)
 # Debian's OpenImageIO target lists /usr/include/opencv4, which only exists with

@@ -10,6 +10,8 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev doctest-dev libbenchmark-dev
   # portable SIMD with runtime dispatch (the vectorised pixel pipeline)
   libhwy-dev
+  # ray casting for forward-plus-amd's many-light shadows (GPU Pro 4 ch. 5 §5.6.2): Intel Embree 3
+  libembree-dev
   # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
   assimp-testmodels
   # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)

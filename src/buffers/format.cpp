@@ -13,7 +13,7 @@ using enum FormatKind;
 
 // Indexed by the Format enum value; the static_assert below keeps it in step with the enum.
 //                 name                    bytes ch  kind          srgb   depth  stencil
-constexpr std::array<FormatInfo, 14> kFormats = {{
+constexpr std::array<FormatInfo, 15> kFormats = {{
     {"UNKNOWN",                0,  0, Unorm,        false, false, false},
     {"R8G8B8A8_UNORM",         4,  4, Unorm,        false, false, false},
     {"R8G8B8A8_UNORM_SRGB",    4,  4, Unorm,        true,  false, false},
@@ -28,8 +28,9 @@ constexpr std::array<FormatInfo, 14> kFormats = {{
     {"D24_UNORM_S8_UINT",      4,  1, DepthStencil, false, true,  true},
     {"D32_FLOAT",              4,  1, DepthStencil, false, true,  false},
     {"D32_FLOAT_S8X24_UINT",   8,  1, DepthStencil, false, true,  true},
+    {"R32G32B32A32_UINT",      16, 4, Uint,         false, false, false},
 }};
-static_assert(kFormats.size() == static_cast<std::size_t>(Format::D32_FLOAT_S8X24_UINT) + 1,
+static_assert(kFormats.size() == static_cast<std::size_t>(Format::R32G32B32A32_UINT) + 1,
               "kFormats must have one row per Format enumerator, in enum order");
 
 constexpr std::string_view kDxgiPrefix = "DXGI_FORMAT_";

@@ -124,6 +124,9 @@ void encodeTexelUint(Format f, const glm::uvec4& value, std::byte* dst) {
         store(dst, 0, static_cast<std::uint32_t>(value.x));
         store(dst, 1, static_cast<std::uint32_t>(value.y));
         return;
+    case Format::R32G32B32A32_UINT:
+        for (int i = 0; i < 4; ++i) store(dst, i, static_cast<std::uint32_t>(value[i]));
+        return;
     default: unsupported("encodeTexelUint", f, "is not a UINT colour format");
     }
 }
@@ -132,6 +135,8 @@ glm::uvec4 decodeTexelUint(Format f, const std::byte* src) {
     switch (f) {
     case Format::R32_UINT: return {load<std::uint32_t>(src, 0), 0u, 0u, 1u};
     case Format::R32G32_UINT: return {load<std::uint32_t>(src, 0), load<std::uint32_t>(src, 1), 0u, 1u};
+    case Format::R32G32B32A32_UINT:
+        return {load<std::uint32_t>(src, 0), load<std::uint32_t>(src, 1), load<std::uint32_t>(src, 2), load<std::uint32_t>(src, 3)};
     default: unsupported("decodeTexelUint", f, "is not a UINT colour format");
     }
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -447,6 +448,17 @@ void printDrawStats(const tessera::DrawStats& s) {
                 (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
 }
 
+// forward-plus-amd's ray-cast shadows (GPU Pro 4 §5.6.2): its "shadow.counters" as one line.
+void printShadowStats(const tessera::BufferRegistry& registry) {
+    const tessera::Surface* counters = registry.find("shadow.counters");
+    if (!counters) return;
+    std::uint32_t c[5];
+    std::memcpy(c, counters->bytes().data(), sizeof(c));
+    std::printf("shadows  %u rays (jobs), %u occluded; %u light slots masked behind the surface; %u pixels list more than "
+                "128 lights (%u overlapping lights past slot 127)\n",
+                c[0], c[1], c[2], c[3], c[4]);
+}
+
 // The frame rendered `warmup` times untimed, then `repeat` times timed, each run into a fresh
 // registry (`registry` keeps the last run's buffers, which are written). `beforeRun` resets the
 // counters a run accumulates, so the draw counters printed are one frame's.
@@ -787,6 +799,7 @@ int render(const std::vector<std::string_view>& args) {
                         double(resources.textureBytes()) / (1024.0 * 1024.0));
             printTimings(runs, o, true);
             printDrawStats(drawStats);
+            printShadowStats(registry);
             printPeakMemory();
             for (const auto& [variant, draws] : variantCounts)
                 std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);

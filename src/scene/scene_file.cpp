@@ -31,7 +31,7 @@ constexpr float kDefaultExplicitRange = 100.0f;         // world units; 3dgep Li
 
 const std::vector<std::string> kTopLevelKeys = {
     "$schema", "description", "models", "camera", "resolution", "technique",
-    "options", "precision", "lights", "gltfLights", "generate"};
+    "options", "precision", "lights", "gltfLights", "generate", "shadowCasters"};
 
 // Levenshtein distance, for "did you mean" suggestions.
 std::size_t editDistance(std::string_view a, std::string_view b) {
@@ -350,7 +350,7 @@ Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     r.requireObject(value, path);
     r.checkKeys(value, path,
                 {"type", "name", "position", "direction", "color", "intensity", "range", "spotAngleDeg", "length", "enabled",
-                 "lightGroups"});
+                 "lightGroups", "indirect"});
     r.requireKey(value, path, "type");
     const std::string type = r.string(value["type"], Reader::at(path, "type"));
     Light light;
@@ -396,6 +396,11 @@ Light parseLight(const Reader& r, const Json& value, const std::string& path) {
     if (value.contains("enabled")) light.enabled = r.boolean(value["enabled"], Reader::at(path, "enabled"));
     if (value.contains("lightGroups")) light.lightGroups = r.lightGroups(value["lightGroups"], Reader::at(path, "lightGroups"));
     if (value.contains("name")) light.name = r.string(value["name"], Reader::at(path, "name"));
+    if (value.contains("indirect")) {
+        light.indirect = r.boolean(value["indirect"], Reader::at(path, "indirect"));
+        if (light.indirect && light.type != LightType::Spot && light.type != LightType::Directional)
+            r.fail(Reader::at(path, "indirect"), "a " + type + " light cannot be indirect: the reflective shadow map needs a spot or directional light");
+    }
     return light;
 }
 
@@ -607,6 +612,25 @@ SceneDescription parseSceneJson(const std::string& text, const std::filesystem::
         for (std::size_t i = 0; i < generators.size(); ++i)
             d.generators.push_back(parseGenerator(r, generators[i], Reader::at("/generate", i)));
     }
+    std::size_t indirectLights = 0;
+    for (std::size_t i = 0; i < d.explicitLights.size(); ++i)
+        if (d.explicitLights[i].indirect && ++indirectLights > 1)
+            r.fail(Reader::at(Reader::at("/lights", i), "indirect"), "only one light may be indirect (one reflective shadow map per frame)");
+    if (root.contains("shadowCasters")) {
+        const Json& casters = root["shadowCasters"];
+        if (casters.is_string()) {
+            const std::string word = r.string(casters, "/shadowCasters");
+            if (word == "all") d.shadowCasters = SceneDescription::ShadowCasters::All;
+            else if (word == "none") d.shadowCasters = SceneDescription::ShadowCasters::None;
+            else r.fail("/shadowCasters", "\"" + word + "\" is not \"all\", \"none\" or a list of light indices");
+        } else {
+            r.requireArray(casters, "/shadowCasters");
+            d.shadowCasters = SceneDescription::ShadowCasters::List;
+            for (std::size_t i = 0; i < casters.size(); ++i)
+                d.shadowCasterIndices.push_back(static_cast<std::uint32_t>(
+                    r.unsignedInteger(casters[i], Reader::at("/shadowCasters", i), 0, std::numeric_limits<std::uint32_t>::max())));
+        }
+    }
     return d;
 }
 
@@ -710,6 +734,18 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
                                  std::to_string(kAmdForwardPlus11MaxLights) + " (MAX_NUM_LIGHTS)");
         std::vector<Light> generated = generateLights(spec, bounds);
         scene.lights.insert(scene.lights.end(), generated.begin(), generated.end());
+    }
+    if (d.shadowCasters == SceneDescription::ShadowCasters::All) {
+        for (Light& light : scene.lights) light.castsShadows = true;
+    } else if (d.shadowCasters == SceneDescription::ShadowCasters::List) {
+        for (std::size_t i = 0; i < d.shadowCasterIndices.size(); ++i) {
+            const std::uint32_t index = d.shadowCasterIndices[i];
+            if (index >= scene.lights.size())
+                throw inputError(file, "/shadowCasters/" + std::to_string(i),
+                                 "light " + std::to_string(index) + " does not exist (the scene has " +
+                                     std::to_string(scene.lights.size()) + " lights: explicit, glTF, generated)");
+            scene.lights[index].castsShadows = true;
+        }
     }
     if (cameraOut) *cameraOut = resolveCamera(d, scene);
     return scene;

@@ -800,12 +800,36 @@ struct PrepassAlphaTestPS {
     }
 };
 
+// The pre-pass as GPU Pro 4 §5.6.2's G-pass: the alpha test as PrepassAlphaTestPS when it
+// applies, then the unit world normal (PhongVS given worldFromObject as its "view": normalView is
+// the world normal, as AMD's shading reads it), w = 1.
+template <bool kAlphaTest>
+struct PrepassNormalPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 1;
+    static constexpr bool kMayDiscard = kAlphaTest;
+    PhongShadeFn<float> shade = nullptr;
+    const PhongShaderData<float>* data = nullptr;
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
+        if constexpr (kAlphaTest) {
+            Vec4<float> color;
+            if (!shade(*data, in, color)) {
+                out.discard();
+                return;
+            }
+        }
+        out.target[0] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
+    }
+};
+
 // The demo's depth pre-pass (g_pDepthPrepassPipeline): the opaque items, VS only, depth LESS with
-// writes, the opaque pass's culling (cull back; glTF doubleSided: none).
+// writes, the opaque pass's culling (cull back; glTF doubleSided: none). With normalWorld, also
+// the G-pass normal (PrepassNormalPS): the same clip positions, so the same depth.
 void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, Surface& depthSurface,
-                      DrawStats* stats) {
+                      DrawStats* stats, Surface* normalWorld = nullptr) {
     RenderTargets rt;
     rt.depthStencil = &depthSurface;
+    rt.colors[0] = normalWorld;
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent()) continue;
@@ -815,12 +839,16 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
         st.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
         st.precision = setup.precision;  // the opaque pass's LESS_EQUAL needs the same depth path
         const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
-        const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
+        const PhongVS vs{setup.clipFromView * viewFromObject, normalWorld ? item.worldFromObject : viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         const std::span<const SceneVertex> vertices(prim.vertices);
         const PhongVariant variant = selectPhongVariant<float>(phongFeatures(material, setup.alphaTest));
         DrawStats s;
-        if (variant.mayDiscard) {
+        if (normalWorld) {
+            const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
+            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassNormalPS<true>{variant.exact, &data})
+                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassNormalPS<false>{});
+        } else if (variant.mayDiscard) {
             const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
             s = device.draw(st, rt, vertices, prim.indices, vs, PrepassAlphaTestPS{variant.exact, &data});
         } else {
@@ -955,20 +983,26 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
 }
 
 void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
-                                   const SceneResources* resources, DrawStats* stats) {
+                                   const SceneResources* resources, DrawStats* stats, bool writeNormals) {
     const std::uint32_t samples = setup->sampleCount;
     const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     std::vector<std::string> cleared{back, "depth"};
     if (setup->precision == Precision::Reference) cleared.push_back(backReference);
-    frame.add({"clear", {}, cleared, [setup, samples, back, backReference](BufferRegistry& reg) {
+    if (writeNormals) cleared.emplace_back("gbuffer.normal");
+    frame.add({"clear", {}, cleared, [setup, samples, back, backReference, writeNormals](BufferRegistry& reg) {
                    const std::uint32_t w = setup->width, h = setup->height;
                    reg.create(back, {w, h, Format::R8G8B8A8_UNORM, samples}).clearColor(kDemoClearColor);
                    if (setup->precision == Precision::Reference)
                        reg.create(backReference, {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(kDemoClearColor);
                    reg.create("depth", {w, h, Format::D24_UNORM_S8_UINT, samples}).clearDepthStencil(true, 1.0f, true, 0);
+                   if (writeNormals)
+                       reg.create("gbuffer.normal", {w, h, Format::R32G32B32A32_FLOAT, samples}).clearColor(glm::vec4(0.0f));
                }});
-    frame.add({"depth-prepass", {"depth"}, {"depth"}, [setup, device, resources, stats](BufferRegistry& reg) {
-                   drawDepthPrepass(*setup, *device, *resources, reg.get("depth"), stats);
+    std::vector<std::string> prepassIo{"depth"};
+    if (writeNormals) prepassIo.emplace_back("gbuffer.normal");
+    frame.add({"depth-prepass", prepassIo, prepassIo, [setup, device, resources, stats, writeNormals](BufferRegistry& reg) {
+                   drawDepthPrepass(*setup, *device, *resources, reg.get("depth"), stats,
+                                    writeNormals ? &reg.get("gbuffer.normal") : nullptr);
                }});
 }
 

@@ -24,8 +24,11 @@
 #include <tessera/shading/phong_surface.h>
 #include <tessera/shading/amd_lighting.h>
 #include <tessera/shading/phong_material_shader.h>
+#include <tessera/raytrace/shadow_ray_scene.h>
 #include <tessera/shading/tile_heat_colors.h>
 #include <tessera/techniques/amd_light_culling.h>
+#include <tessera/techniques/amd_shadow_rays.h>
+#include <tessera/techniques/amd_vpl.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
 #include <tessera/techniques/technique_options.h>
@@ -49,7 +52,14 @@ struct AmdOptions {
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
     AmdLightLoop lightLoop = AmdLightLoop::Binned;
+    bool shadows = true;   // "auto": ray-cast shadows when the scene has shadow-casting lights
+    ShadowRayOptions shadowRays;
+    bool indirect = true;  // "auto": VPLs when the scene has an indirect light
+    VplOptions vpl;
 };
+
+constexpr std::uint32_t kMaxRsmSize = 4096;  // texels per side of the reflective shadow map
+constexpr std::uint32_t kMaxVplGrid = 128;   // N: at most 16,384 VPLs
 
 AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
     AmdOptions o;
@@ -67,6 +77,22 @@ AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
     o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
     o.lightLoop = optionEnum(ctx.options, "lightLoop", {"binned", "all-lights"}, "binned", file) == "binned" ? AmdLightLoop::Binned
                                                                                                      : AmdLightLoop::AllLights;
+    o.shadows = optionEnum(ctx.options, "shadows", {"auto", "off"}, "auto", file) == "auto";
+    o.shadowRays.normalOffset = float(optionNumber(ctx.options, "shadowNormalOffset", 0.01, 0.0, 1e6, file));
+    const std::string backfaces = optionEnum(ctx.options, "shadowBackfaces", {"mask", "lit", "cast"}, "mask", file);
+    o.shadowRays.backfaces = backfaces == "mask" ? ShadowBackfaces::Mask : backfaces == "lit" ? ShadowBackfaces::Lit : ShadowBackfaces::Cast;
+    o.shadowRays.overflow = optionEnum(ctx.options, "shadowOverflow", {"lit", "unlit"}, "lit", file) == "lit" ? ShadowOverflow::Lit
+                                                                                                          : ShadowOverflow::Unlit;
+    o.indirect = optionEnum(ctx.options, "indirect", {"auto", "off"}, "auto", file) == "auto";
+    o.vpl.rsmSize = std::uint32_t(optionInteger(ctx.options, "rsmSize", 256, 1, kMaxRsmSize, file));
+    o.vpl.grid = std::uint32_t(optionInteger(ctx.options, "vplGrid", 16, 1, kMaxVplGrid, file));
+    o.vpl.coneDeg = float(optionNumber(ctx.options, "vplConeDeg", 60.0, 1.0, 89.0, file));
+    o.vpl.range = float(optionNumber(ctx.options, "vplRange", 4.0, 1e-6, 1e6, file));
+    o.vpl.intensity = float(optionNumber(ctx.options, "vplIntensity", 1.0, 0.0, 1e6, file));
+    o.vpl.direction = optionEnum(ctx.options, "vplDirection", {"reflect", "normal"}, "reflect", file) == "reflect"
+                          ? VplDirection::Reflect
+                          : VplDirection::Normal;
+    o.vpl.normalOffset = float(optionNumber(ctx.options, "vplOffset", 0.01, 0.0, 1e6, file));
     return o;
 }
 
@@ -90,6 +116,19 @@ struct AmdState {
     glm::vec3 cameraPosWorld{0.0f};
     AmdTileLightLists opaque, transparent;
     TileLightList opaqueList, transparentList;  // 3dgep shading: bound by the passes
+    // GPU Pro 4 §5.6.2 (shadowsActive): the lights as job creation sees them (scene lights, then
+    // VPLs that never cast), the pixels it reads, and the jobs and mask it makes.
+    bool shadowsActive = false;
+    std::vector<ShadowCaster> casters;
+    std::vector<float> depthWindow;
+    std::vector<glm::vec4> normalWorld;
+    glm::dmat4 worldFromClip{1.0};
+    ShadowJobs shadowJobs;
+    // §5.5 (indirectActive): the indirect light, its RSM view; lights [sceneLightCount, ...) are VPLs.
+    bool indirectActive = false;
+    Light indirectLight;
+    RsmView rsm;
+    std::uint32_t sceneLightCount = 0;
 };
 
 SurfaceDesc indexListDesc(std::uint64_t entries) {
@@ -106,6 +145,37 @@ void storeUint32(std::byte* base, std::size_t element, std::uint32_t value) {
     std::memcpy(base + element * sizeof(std::uint32_t), &value, sizeof(value));
 }
 
+// One light's culling sphere and AMD shading record (entry i of the tables).
+void convertLight(AmdState& st, std::size_t i, const ViewLight<float>& l, const Light& w) {
+    const glm::vec3 posLh = viewLhFromViewRh(glm::vec3(l.positionView));
+    const glm::vec3 color = w.color * w.intensity;  // tessera: float colour, no RGBA8 quantization
+    if (!l.enabled) {
+        st.spheresViewLh[i] = glm::vec4(posLh, -std::numeric_limits<float>::infinity());
+    } else if (l.type == LightType::Directional) {
+        st.spheresViewLh[i] = glm::vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::infinity());
+    } else if (l.type == LightType::Point) {
+        st.spheresViewLh[i] = glm::vec4(posLh, l.range);
+        st.table.kind[i] = AmdKind::Point;
+        st.table.points[i] = AmdPointLight<float>{w.positionWorld, w.range, color};
+    } else {
+        const SpotBoundingSphere b = spotBoundingSphere(l.range, l.spotlightAngleDeg);
+        const glm::vec3 dirLh = viewLhFromViewRh(glm::vec3(l.directionView));
+        st.spheresViewLh[i] = glm::vec4(posLh + dirLh * b.centerOffset, b.radius);
+        // The shader rebuilds the apex as centre - boundingRadius * dir (amdSpotPosition), so the
+        // shading record holds the centre at `centerOffset` with boundingRadius = centerOffset:
+        // the culling sphere itself for theta <= 45 deg (radius == offset), the apex either way.
+        const float cosCone = detCos(hlsl::radians(w.spotHalfAngleDeg));
+        AmdSpotLight<float> s;
+        s.boundingCenterWorld = w.positionWorld + w.directionWorld * b.centerOffset;
+        s.boundingRadius = b.centerOffset;
+        s.color = color;
+        s.spotParams = glm::vec4(w.directionWorld.x, w.directionWorld.y,
+                                 w.directionWorld.z > 0.0f ? cosCone : -cosCone, w.range);
+        st.table.kind[i] = AmdKind::Spot;
+        st.table.spots[i] = s;
+    }
+}
+
 // Culling spheres in AMD's LH view space and the AMD shading table, from the scene's lights.
 // Disabled lights get radius -inf (no `x < r` test passes); directional lights radius +inf.
 void convertLights(AmdState& st, std::span<const Light> sceneLights) {
@@ -115,37 +185,7 @@ void convertLights(AmdState& st, std::span<const Light> sceneLights) {
     st.table.kind.assign(n, AmdKind::None);
     st.table.points.resize(n);
     st.table.spots.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const ViewLight<float>& l = view[i];
-        const Light& w = sceneLights[i];
-        const glm::vec3 posLh = viewLhFromViewRh(glm::vec3(l.positionView));
-        const glm::vec3 color = w.color * w.intensity;  // tessera: float colour, no RGBA8 quantization
-        if (!l.enabled) {
-            st.spheresViewLh[i] = glm::vec4(posLh, -std::numeric_limits<float>::infinity());
-        } else if (l.type == LightType::Directional) {
-            st.spheresViewLh[i] = glm::vec4(0.0f, 0.0f, 0.0f, std::numeric_limits<float>::infinity());
-        } else if (l.type == LightType::Point) {
-            st.spheresViewLh[i] = glm::vec4(posLh, l.range);
-            st.table.kind[i] = AmdKind::Point;
-            st.table.points[i] = AmdPointLight<float>{w.positionWorld, w.range, color};
-        } else {
-            const SpotBoundingSphere b = spotBoundingSphere(l.range, l.spotlightAngleDeg);
-            const glm::vec3 dirLh = viewLhFromViewRh(glm::vec3(l.directionView));
-            st.spheresViewLh[i] = glm::vec4(posLh + dirLh * b.centerOffset, b.radius);
-            // The shader rebuilds the apex as centre - boundingRadius * dir (amdSpotPosition), so the
-            // shading record holds the centre at `centerOffset` with boundingRadius = centerOffset:
-            // the culling sphere itself for theta <= 45 deg (radius == offset), the apex either way.
-            const float cosCone = detCos(hlsl::radians(w.spotHalfAngleDeg));
-            AmdSpotLight<float> s;
-            s.boundingCenterWorld = w.positionWorld + w.directionWorld * b.centerOffset;
-            s.boundingRadius = b.centerOffset;
-            s.color = color;
-            s.spotParams = glm::vec4(w.directionWorld.x, w.directionWorld.y,
-                                     w.directionWorld.z > 0.0f ? cosCone : -cosCone, w.range);
-            st.table.kind[i] = AmdKind::Spot;
-            st.table.spots[i] = s;
-        }
-    }
+    for (std::size_t i = 0; i < n; ++i) convertLight(st, i, view[i], sceneLights[i]);
 }
 
 // Writes one culling result's grid(s) and pool into the registry.
@@ -261,6 +301,15 @@ struct AmdShadeData {
     const AmdState* state = nullptr;
     const AmdTileLightLists* lists = nullptr;
     bool halfZ = false;
+    // GPU Pro 4 §5.6.2: the pixel's int4 mask (kShadowMaskWords per pixel, row-major, maskWidth
+    // pixels a row); a set bit masks the light of that slot. Null: no shadows (transparent pass).
+    const std::uint32_t* shadowMask = nullptr;
+    std::uint32_t maskWidth = 0;
+    bool overflowUnlit = false;  // slots >= 128 masked (ShadowOverflow::Unlit)
+    // §5.5: lights from firstIndirect on are VPLs (isIndirectLight); indirectOnly: the pass that
+    // writes the indirect contribution alone.
+    std::uint32_t firstIndirect = std::numeric_limits<std::uint32_t>::max();
+    bool indirectOnly = false;
 };
 
 // RenderScenePS. Varyings from PhongVS with viewFromObject = worldFromObject: posView holds the
@@ -301,6 +350,7 @@ struct AmdScenePS {
         const auto tileX = std::uint32_t(std::floor(in.posWindow.x / float(kAmdTileSizePx)));
         const auto tileY = std::uint32_t(std::floor(in.posWindow.y / float(kAmdTileSizePx)));
         AmdLightingResult<T> accum;
+        Vec3<T> indirect(T(0));  // the VPLs' diffuse light
         if (tileX < lists.tileCount.x && tileY < lists.tileCount.y) {
             const std::uint32_t tile = tileX + tileY * lists.tileCount.x;
             std::span<const std::uint32_t> list = lists.tileLights(tile);
@@ -312,8 +362,17 @@ struct AmdScenePS {
             }
             const AmdLightTable& table = shade.state->table;
             std::vector<LightTerm>* const trace = watchedLightTerms();
-            for (std::uint32_t index : list) {  // the point-light loop
-                if (table.kind[index] != AmdKind::Point) continue;
+            const std::uint32_t* mask = nullptr;
+            if (shade.shadowMask)
+                mask = shade.shadowMask + (std::size_t(in.posWindow.y) * shade.maskWidth + std::size_t(in.posWindow.x)) * kShadowMaskWords;
+            const auto shadowed = [&](std::uint32_t slot) {
+                if (!mask) return false;
+                if (slot >= kShadowMaxSlots) return shade.overflowUnlit;
+                return ((mask[slot >> 5] >> (slot & 31u)) & 1u) != 0;
+            };
+            for (std::uint32_t slot = 0; slot < list.size(); ++slot) {  // the point-light loop
+                const std::uint32_t index = list[slot];
+                if (table.kind[index] != AmdKind::Point || shade.indirectOnly || shadowed(slot)) continue;
                 const AmdPointLight<float>& p = table.points[index];
                 const AmdPointLight<T> light{Vec3<T>(p.centerWorld), T(p.radius), Vec3<T>(p.color)};
                 const AmdLightingResult<T> r = amdPointLight(light, posWorld, normalWorld, viewDir);
@@ -321,28 +380,52 @@ struct AmdScenePS {
                 accum.specular += r.specular;
                 if (trace) [[unlikely]] trace->push_back(amdDescribePoint(index, light, posWorld, normalWorld, r));
             }
-            for (std::uint32_t index : list) {  // the spot-light loop
+            for (std::uint32_t slot = 0; slot < list.size(); ++slot) {  // the spot-light loop
+                const std::uint32_t index = list[slot];
                 if (table.kind[index] != AmdKind::Spot) continue;
+                const bool indirectLight = index >= shade.firstIndirect;  // isIndirectLight
+                if (shade.indirectOnly && !indirectLight) continue;
+                if (!indirectLight && shadowed(slot)) continue;
                 const AmdSpotLight<float>& sp = table.spots[index];
                 const AmdSpotLight<T> light{Vec3<T>(sp.boundingCenterWorld), T(sp.boundingRadius), Vec3<T>(sp.color),
                                             Vec4<T>(sp.spotParams)};
                 const AmdLightingResult<T> r = amdSpotLight(light, posWorld, normalWorld, viewDir);
+                if (indirectLight) {  // FetchIndirectLight: diffuse only (a VPL stands for a diffuse reflector)
+                    indirect += r.diffuse;
+                    continue;
+                }
                 accum.diffuse += r.diffuse;
                 accum.specular += r.specular;
                 if (trace) [[unlikely]] trace->push_back(amdDescribeSpot(index, light, posWorld, normalWorld, r));
             }
         }
-        const Vec3<T> rgb = amdComposePixel(accum, normalWorld, Vec3<T>(glm::vec3(diffuseTex)), specMask,
-                                            Vec3<T>(kAmdAmbientUp), Vec3<T>(kAmdAmbientDown));
+        const Vec3<T> albedo{glm::vec3(diffuseTex)};
+        if (shade.indirectOnly) {
+            out.target[0] = glm::vec4(glm::vec3(albedo * indirect), 1.0f);
+            return;
+        }
+        Vec3<T> rgb = amdComposePixel(accum, normalWorld, albedo, specMask, Vec3<T>(kAmdAmbientUp), Vec3<T>(kAmdAmbientDown));
+        // One-bounce light: DiffuseTex * the VPLs' diffuse, added after AMD's composition (without
+        // VPLs nothing is added: the image keeps forward-plus-amd's bits).
+        if (shade.firstIndirect < shade.state->table.kind.size()) rgb = rgb + albedo * indirect;
         out.target[0] = glm::vec4(glm::vec3(rgb), blended ? alpha * material->opacity : 1.0f);
         if constexpr (kTargets == 2) out.target[1] = convert::clampUnorm(out.target[0]);
     }
 };
 
+// The opaque or transparent pass, or (indirectOnly) the opaque geometry again writing only the
+// VPLs' contribution (float at every precision, into the one target of `rt`).
 void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, const RenderTargets& rt, bool transparentPass,
-                 DrawStats* stats) {
+                 DrawStats* stats, bool indirectOnly = false) {
     const ForwardPassSetup& setup = *st.setup;
     AmdShadeData shade{&st, transparentPass ? &st.transparent : &st.opaque, st.options.halfZ && !transparentPass};
+    if (st.shadowsActive && !transparentPass) {
+        shade.shadowMask = st.shadowJobs.mask.data();
+        shade.maskWidth = setup.width;
+        shade.overflowUnlit = st.options.shadowRays.overflow == ShadowOverflow::Unlit;
+    }
+    if (st.indirectActive) shade.firstIndirect = st.sceneLightCount;
+    shade.indirectOnly = indirectOnly;
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent() != transparentPass) continue;
@@ -356,6 +439,7 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
             ds.blend.renderTarget[0] = kAlphaBlend;
         } else {
             ds.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+            ds.depthStencil.depthWriteEnable = !indirectOnly;
         }
         ds.precision = setup.precision;  // the pre-pass's depth path (LESS_EQUAL)
         // The clip matrix exactly as the pre-pass forms it (same depth values: LESS_EQUAL passes).
@@ -365,7 +449,10 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
         const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
         const std::span<const SceneVertex> vertices(prim.vertices);
         DrawStats s;
-        if (setup.precision == Precision::Reference)
+        if (indirectOnly)
+            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, false})
+                                : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, false});
+        else if (setup.precision == Precision::Reference)
             s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs,
                                               AmdScenePS<true, double, 2>{&data, shade, true, transparentPass})
                                 : device.draw(ds, rt, vertices, prim.indices, vs,
@@ -375,6 +462,131 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
                                 : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, transparentPass});
         if (stats) *stats += s;
     }
+}
+
+// ----- GPU Pro 4 §5.5: the reflective shadow map and its VPLs ---------------------------------
+
+// The RSM's three targets (Dachsbacher and Stamminger 2005): world position (w = 1), unit world
+// normal (w = 1), reflected flux = DiffuseTex.rgb x the light's colour x intensity (w = 1).
+// PhongVS with worldFromObject as its "view": posView / normalView are world space.
+struct RsmPS {
+    using Varyings = PhongVaryings;
+    static constexpr int kTargetCount = 3;
+    const PhongShaderData<float>* material = nullptr;
+    glm::vec3 lightColor{1.0f};
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<3>& out) const {
+        glm::vec4 diffuseTex = material->diffuseColor;
+        if (material->diffuseTexture.bound()) diffuseTex = phong_detail::textureRule(diffuseTex, material->diffuseTexture.sample(in));
+        out.target[0] = glm::vec4(in.varyings.posView, 1.0f);
+        out.target[1] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
+        out.target[2] = glm::vec4(glm::vec3(diffuseTex) * lightColor, 1.0f);
+    }
+};
+
+// The "rsm" pass: the opaque draw items from the indirect light (rsmView), depth LESS with
+// writes into "rsm.depth" (D32_FLOAT), each material's culling, precision exact.
+void drawRsm(const AmdState& st, Device& device, const SceneResources& res, BufferRegistry& reg, DrawStats* stats) {
+    const std::uint32_t size = st.options.vpl.rsmSize;
+    RenderTargets rt;
+    rt.colors[0] = &reg.create("rsm.position", {size, size, Format::R32G32B32A32_FLOAT, 1});
+    rt.colors[1] = &reg.create("rsm.normal", {size, size, Format::R32G32B32A32_FLOAT, 1});
+    rt.colors[2] = &reg.create("rsm.color", {size, size, Format::R32G32B32A32_FLOAT, 1});
+    for (int i = 0; i < 3; ++i) rt.colors[i]->clearColor(glm::vec4(0.0f));
+    rt.depthStencil = &reg.create("rsm.depth", {size, size, Format::D32_FLOAT, 1});
+    rt.depthStencil->clearDepthStencil(true, 1.0f, false, 0);
+    const glm::vec3 lightColor = st.indirectLight.color * st.indirectLight.intensity;
+    for (const DrawItem& item : res.drawItems()) {
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;
+        DrawState ds;
+        ds.viewport = Viewport{0.0f, 0.0f, float(size), float(size), 0.0f, 1.0f};
+        ds.rasterizer.frontCounterClockwise = item.frontCounterClockwise;
+        ds.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
+        const PhongVS vs{st.rsm.clipFromWorld * item.worldFromObject, item.worldFromObject};
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const PhongShaderData<float> data = makePhongShaderData<float>(material, *st.setup->textures, {});
+        const DrawStats s = device.draw(ds, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, RsmPS{&data, lightColor});
+        if (stats) *stats += s;
+    }
+}
+
+// The "vpl" pass (§5.1 step 2): N x N VPLs from the RSM, appended after the scene's lights to the
+// culling spheres, the shading table and the casters (they cast no shadows); "vpl.position"
+// (w = 1 valid, 0 empty texel), "vpl.direction" (w = cos of the cone), "vpl.color" (w = range).
+void makeVpls(AmdState& st, BufferRegistry& reg) {
+    const VplOptions& o = st.options.vpl;
+    const std::vector<Vpl> vpls = vplsFromRsm(reg.get("rsm.position"), reg.get("rsm.normal"), reg.get("rsm.color"), st.rsm, o);
+    std::vector<Light> lights;
+    lights.reserve(vpls.size());
+    for (const Vpl& v : vpls) lights.push_back(vplLight(v, o));
+    const std::vector<ViewLight<float>> view = viewLights<float>(lights, st.setup->viewFromWorld);
+    const std::size_t first = st.sceneLightCount, n = first + vpls.size();
+    st.spheresViewLh.resize(n);
+    st.table.kind.resize(first);  // a frame that runs again starts from the scene's lights
+    st.table.kind.resize(n, AmdKind::None);
+    st.table.points.resize(n);
+    st.table.spots.resize(n);
+    st.casters.resize(first);
+    st.casters.resize(n);
+    for (std::size_t i = 0; i < vpls.size(); ++i) convertLight(st, first + i, view[i], lights[i]);
+    const std::uint32_t grid = o.grid;
+    Surface& position = reg.create("vpl.position", {grid, grid, Format::R32G32B32A32_FLOAT, 1});
+    Surface& direction = reg.create("vpl.direction", {grid, grid, Format::R32G32B32A32_FLOAT, 1});
+    Surface& color = reg.create("vpl.color", {grid, grid, Format::R32G32B32A32_FLOAT, 1});
+    const float cosCone = detCos(hlsl::radians(o.coneDeg));
+    for (std::uint32_t j = 0; j < grid; ++j)
+        for (std::uint32_t i = 0; i < grid; ++i) {
+            const Vpl& v = vpls[std::size_t{j} * grid + i];
+            const glm::vec4 values[3] = {glm::vec4(v.positionWorld, v.valid ? 1.0f : 0.0f), glm::vec4(v.directionWorld, cosCone),
+                                         glm::vec4(v.color, o.range)};
+            std::memcpy(position.texel(i, j), &values[0], sizeof(glm::vec4));
+            std::memcpy(direction.texel(i, j), &values[1], sizeof(glm::vec4));
+            std::memcpy(color.texel(i, j), &values[2], sizeof(glm::vec4));
+        }
+}
+
+// ----- GPU Pro 4 §5.6.2: ray-cast shadows --------------------------------------------------------
+
+ShadowPixels shadowPixelsOf(const AmdState& st) {
+    return ShadowPixels{st.setup->width, st.setup->height, st.depthWindow, st.normalWorld, st.worldFromClip};
+}
+
+// "shadow-jobs": reads the G-pass (depth, normal) and the opaque lists, writes "shadow.jobs"
+// (R32_UINT, the job buffer laid out as the light index pool).
+void createJobsPass(AmdState& st, Device& device, BufferRegistry& reg) {
+    const Surface& depth = reg.get("depth");
+    const Surface& normal = reg.get("gbuffer.normal");
+    const std::uint32_t width = st.setup->width, height = st.setup->height;
+    st.depthWindow.resize(std::size_t{width} * height);
+    st.normalWorld.resize(std::size_t{width} * height);
+    device.execute([&] {
+        tbb::parallel_for(std::uint32_t(0), height, [&](std::uint32_t y) {
+            for (std::uint32_t x = 0; x < width; ++x) {
+                const std::size_t p = std::size_t{y} * width + x;
+                st.depthWindow[p] = depth.loadDepth(x, y);
+                std::memcpy(&st.normalWorld[p], normal.texel(x, y), sizeof(glm::vec4));
+            }
+        });
+        st.shadowJobs = createShadowJobs(shadowPixelsOf(st), st.opaque, st.casters, st.options.shadowRays);
+    });
+    Surface& jobs = reg.create("shadow.jobs", indexListDesc(st.shadowJobs.jobs.size()));
+    if (!st.shadowJobs.jobs.empty())
+        std::memcpy(jobs.bytes().data(), st.shadowJobs.jobs.data(), st.shadowJobs.jobs.size() * sizeof(std::uint32_t));
+}
+
+// "shadow-rays": one Embree occlusion ray per job into "shadow.mask" (R32G32B32A32_UINT per
+// pixel) and "shadow.counters" (R32_UINT x 5: jobs, occluded, backface-masked, overflow pixels,
+// overflow lights).
+void castRaysPass(AmdState& st, Device& device, const SceneResources& res, BufferRegistry& reg) {
+    const ShadowRayScene& occluders = res.shadowRayScene();
+    device.execute([&] { castShadowJobs(shadowPixelsOf(st), st.opaque, st.casters, occluders, st.options.shadowRays, st.shadowJobs); });
+    Surface& mask = reg.create("shadow.mask", {st.setup->width, st.setup->height, Format::R32G32B32A32_UINT, 1});
+    std::memcpy(mask.bytes().data(), st.shadowJobs.mask.data(), st.shadowJobs.mask.size() * sizeof(std::uint32_t));
+    const ShadowJobStats& c = st.shadowJobs.stats;
+    const std::array<std::uint64_t, 5> values{c.jobs, c.occluded, c.backfaceMasked, c.overflowPixels, c.overflowLights};
+    Surface& counters = reg.create("shadow.counters", {5, 1, Format::R32_UINT, 1});
+    for (std::size_t i = 0; i < values.size(); ++i)
+        storeUint32(counters.bytes().data(), i, std::uint32_t(std::min<std::uint64_t>(values[i], 0xFFFFFFFFu)));
 }
 
 } // namespace
@@ -406,7 +618,52 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const glm::mat4 flipZ(glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, -1, 0), glm::vec4(0, 0, 0, 1));
     st->inverseProjectionLh = glm::inverse(st->setup->clipFromView * flipZ);
     st->cameraPosWorld = ctx.camera.positionWorld;
-    convertLights(*st, ctx.resources->scene().lights);
+    const std::vector<Light>& sceneLights = ctx.resources->scene().lights;
+    convertLights(*st, sceneLights);
+    st->sceneLightCount = std::uint32_t(sceneLights.size());
+
+    // GPU Pro 4 §5.6.2 / §5.5: only what the scene asks for (a scene without shadow-casting or
+    // indirect lights runs the plain passes).
+    st->casters.resize(sceneLights.size());
+    bool anyCaster = false;
+    for (std::size_t i = 0; i < sceneLights.size(); ++i) {
+        const Light& l = sceneLights[i];
+        ShadowCaster& c = st->casters[i];
+        c.positionWorld = l.positionWorld;
+        c.directionWorld = l.directionWorld;
+        c.range = l.range;
+        if (l.type == LightType::Spot) c.cosCone = detCos(hlsl::radians(l.spotHalfAngleDeg));
+        c.castsShadows = l.castsShadows && l.enabled && (l.type == LightType::Point || l.type == LightType::Spot);
+        anyCaster = anyCaster || c.castsShadows;
+    }
+    st->shadowsActive = st->options.shadows && anyCaster;
+    for (const Light& l : sceneLights)
+        if (l.indirect && l.enabled && !st->indirectActive && st->options.indirect) {
+            st->indirectActive = true;
+            st->indirectLight = l;
+        }
+    if ((st->shadowsActive || st->indirectActive) && !st->options.shadingAmd)
+        throw inputError(file, "/options/shading",
+                         "ray-cast shadows and VPLs are shaded by \"shading\": \"amd\" (or set \"shadows\" / \"indirect\" to \"off\")");
+    if (st->shadowsActive && st->options.halfZ)
+        throw inputError(file, "/options/halfZ", "ray-cast shadows index the single opaque list per tile: halfZ must be false");
+    if (st->shadowsActive && ctx.sampleCount > 1)
+        throw inputError(file, "/options/shadows",
+                         "ray-cast shadows need 1 sample per pixel (the G-pass normal and the shadow mask are per pixel); "
+                         "use --msaa 1 or \"shadows\": \"off\"");
+    if (st->shadowsActive) {
+        if (std::uint64_t{ctx.width} * ctx.height > kShadowMaxPixels)
+            throw inputError(file, "/options/shadows",
+                             std::to_string(ctx.width) + " x " + std::to_string(ctx.height) +
+                                 " pixels exceed the shadow job's 25-bit pixel index (2^25 = 33,554,432 pixels)");
+        st->worldFromClip = glm::inverse(glm::dmat4(st->setup->clipFromView) * glm::dmat4(st->setup->viewFromWorld));
+        (void)ctx.resources->shadowRayScene();  // the BVH: built once per scene, here rather than inside a timed pass
+    }
+    if (st->indirectActive && st->options.vpl.grid > st->options.vpl.rsmSize)
+        throw inputError(file, "/options/vplGrid",
+                         std::to_string(st->options.vpl.grid) + " VPLs per side need an RSM of at least as many texels (rsmSize " +
+                             std::to_string(st->options.vpl.rsmSize) + ")");
+    if (st->indirectActive) st->rsm = rsmView(st->indirectLight, ctx.resources->scene().bounds());
 
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
@@ -415,12 +672,25 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const std::string back(kBackBufferName);
 
     Frame frame;
-    addForwardPlusClearAndPrepass(frame, st->setup, device, res, stats);
+    if (st->indirectActive) {
+        frame.add({"rsm", {}, {"rsm.position", "rsm.normal", "rsm.color", "rsm.depth"},
+                   [st, device, res, stats](BufferRegistry& reg) { drawRsm(*st, *device, *res, reg, stats); }});
+        frame.add({"vpl", {"rsm.position", "rsm.normal", "rsm.color"}, {"vpl.position", "vpl.direction", "vpl.color"},
+                   [st](BufferRegistry& reg) { makeVpls(*st, reg); }});
+    }
+    addForwardPlusClearAndPrepass(frame, st->setup, device, res, stats, st->shadowsActive);
     std::vector<std::string> cullWrites{"lightgrid.opaque",  "lightindex.opaque", "lightgrid.transparent",
                                         "lightindex.transparent", "tiles.depthRange", "tiles.depthMask",
                                         "heatmap.radar",     "lightlist.counters"};
     if (st->options.halfZ) cullWrites.emplace_back("lightgrid.opaque.far");
     frame.add({"light-culling", {"depth"}, cullWrites, [st, device](BufferRegistry& reg) { cullAll(*st, *device, reg); }});
+    if (st->shadowsActive) {
+        frame.add({"shadow-jobs", {"depth", "gbuffer.normal", "lightgrid.opaque", "lightindex.opaque"}, {"shadow.jobs"},
+                   [st, device](BufferRegistry& reg) { createJobsPass(*st, *device, reg); }});
+        frame.add({"shadow-rays", {"shadow.jobs", "depth", "gbuffer.normal", "lightgrid.opaque", "lightindex.opaque"},
+                   {"shadow.mask", "shadow.counters"},
+                   [st, device, res](BufferRegistry& reg) { castRaysPass(*st, *device, *res, reg); }});
+    }
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
             RenderTargets rt;
@@ -452,8 +722,19 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
         return withBackBufferTargets(withReferenceBuffer(std::move(names), ctx.precision), ctx.sampleCount);
     };
     const std::vector<std::string> colors = withColors({back});
-    frame.add({"opaque", withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque"}), withColors({back, "depth"}),
-               drawPass(false)});
+    std::vector<std::string> opaqueReads = withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque"});
+    if (st->shadowsActive) opaqueReads.emplace_back("shadow.mask");
+    frame.add({"opaque", opaqueReads, withColors({back, "depth"}), drawPass(false)});
+    if (st->indirectActive)  // the VPLs' contribution alone, DiffuseTex * their diffuse light (float)
+        frame.add({"indirect", {"depth", "lightgrid.opaque", "lightindex.opaque"}, {"indirect"},
+                   [st, device, stats, res](BufferRegistry& reg) {
+                       RenderTargets rt;
+                       rt.colors[0] = &reg.create("indirect", {st->setup->width, st->setup->height, Format::R32G32B32A32_FLOAT,
+                                                               st->setup->sampleCount});
+                       rt.colors[0]->clearColor(glm::vec4(0.0f));
+                       rt.depthStencil = &reg.get("depth");
+                       drawAmdPass(*st, *device, *res, rt, false, stats, true);
+                   }});
     frame.add({"transparent", withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent"}), colors,
                drawPass(true)});
     if (ctx.sampleCount > 1) frame.add(resolveBackBufferPass(ctx.sampleCount, ctx.precision));

@@ -46,6 +46,10 @@ constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
 constexpr std::array<std::string_view, 3> kEdgesPrc{"coverage", "depthNormal", "all"};
 constexpr std::array<std::string_view, 3> kEdgesIntel{"depthNormal", "coverage", "all"};
 constexpr std::array<std::string_view, 2> kMsaaFinal{"coverage", "perSample"};
+constexpr std::array<std::string_view, 2> kAutoOff{"auto", "off"};
+constexpr std::array<std::string_view, 3> kShadowBackfaces{"mask", "lit", "cast"};
+constexpr std::array<std::string_view, 2> kShadowOverflow{"lit", "unlit"};
+constexpr std::array<std::string_view, 2> kVplDirection{"reflect", "normal"};
 constexpr std::array<std::string_view, 0> kNone{};
 
 constexpr OptionInfo kProjectionOption{"projection", Kind::Word, kProjection, -1, "demo-gl", "d3d", 1,
@@ -164,7 +168,7 @@ constexpr std::array<OptionInfo, 7> kForwardPlus{
                "how the culling dispatch finds each tile's lights: binned by tile rows, or every light in every tile "
                "(the same lists)"}};
 
-constexpr std::array<OptionInfo, 7> kForwardPlusAmd{
+constexpr std::array<OptionInfo, 19> kForwardPlusAmd{
     OptionInfo{"shading", Kind::Word, kShadingAmd, -1, "amd", "", 0,
                "ForwardPlus11's pixel shader (AMD falloff and lighting), or the 3dgep article's Phong shader"},
     OptionInfo{"culling", Kind::Word, kCullingAmd, -1, "depth-mask", "", 0,
@@ -177,7 +181,25 @@ constexpr std::array<OptionInfo, 7> kForwardPlusAmd{
     kAlphaTestOption,
     OptionInfo{"lightLoop", Kind::Word, kLightLoop, -1, "binned", "", 0,
                "which lights each tile's culling loop visits: binned by tile rows, or all (GPU Pro 4's kernel); the "
-               "same lists"}};
+               "same lists"},
+    OptionInfo{"shadows", Kind::Word, kAutoOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.6.2 ray-cast shadows when the scene has shadow-casting lights, or never"},
+    OptionInfo{"shadowNormalOffset", Kind::Number, kNone, -1, "0.01", "", 0,
+               "world units along the G-pass normal from the rebuilt position to the shadow ray's origin", 0.0, 1e6},
+    OptionInfo{"shadowBackfaces", Kind::Word, kShadowBackfaces, -1, "mask", "", 0,
+               "a light behind the surface: masked without a ray, left lit, or ray cast"},
+    OptionInfo{"shadowOverflow", Kind::Word, kShadowOverflow, -1, "lit", "", 0,
+               "lights past the 128 mask slots of a pixel: shaded unshadowed, or dropped"},
+    OptionInfo{"indirect", Kind::Word, kAutoOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.5 one-bounce VPLs when the scene has an indirect light, or never"},
+    OptionInfo{"rsmSize", Kind::Integer, kNone, 1, "256", "", 0, "reflective shadow map edge in texels (at most 4096)"},
+    OptionInfo{"vplGrid", Kind::Integer, kNone, 1, "16", "", 0, "N: N x N VPLs from the RSM's grid-cell centres (at most 128)"},
+    OptionInfo{"vplConeDeg", Kind::Number, kNone, -1, "60", "", 0, "each VPL's spot half angle in degrees", 1.0, 89.0},
+    OptionInfo{"vplRange", Kind::Number, kNone, -1, "4", "", 0, "each VPL's range in world units", 1e-6, 1e6},
+    OptionInfo{"vplIntensity", Kind::Number, kNone, -1, "1", "", 0, "scale of the VPLs' summed colour", 0.0, 1e6},
+    OptionInfo{"vplDirection", Kind::Word, kVplDirection, -1, "reflect", "", 0,
+               "VPL axis: the reflection of the light direction about the normal (the chapter's), or the normal"},
+    OptionInfo{"vplOffset", Kind::Number, kNone, -1, "0.01", "", 0, "world units a VPL sits off its surface", 0.0, 1e6}};
 
 constexpr std::array<OptionInfo, 11> kTiledDeferred{
     OptionInfo{"shading", Kind::Word, kShadingIntel, -1, "intel", "", 0,
@@ -235,6 +257,8 @@ const OptionInfo* findOption(std::string_view id, std::string_view key) {
 }
 
 std::string optionValuesText(const OptionInfo& option) {
+    if (option.kind == Kind::Number)
+        return "number in [" + nlohmann::json(option.minNumber).dump() + ", " + nlohmann::json(option.maxNumber).dump() + "]";
     std::string text;
     if (option.minInteger >= 0) text = "integer >= " + std::to_string(option.minInteger);
     for (const std::string_view v : option.values) {
@@ -251,6 +275,10 @@ std::optional<std::string> optionValueProblem(const OptionInfo& option, const nl
     case Kind::Bool:
         if (value.is_boolean()) return std::nullopt;
         break;
+    case Kind::Number:
+        if (value.is_number() && value.get<double>() >= option.minNumber && value.get<double>() <= option.maxNumber)
+            return std::nullopt;
+        return given + " is not a " + expected;
     case Kind::Word:
         if (value.is_string() && listed(option, value.get<std::string>())) return std::nullopt;
         break;

@@ -2,6 +2,9 @@
 // errors that name the file and the JSON pointer "/options/KEY".
 #include <tessera/techniques/technique_options.h>
 
+#include <cmath>
+#include <string>
+
 #include <tessera/io/input_error.h>
 
 namespace tessera {
@@ -51,6 +54,46 @@ bool optionBool(const nlohmann::json& options, std::string_view key, bool fallba
     if (!value) return fallback;
     if (!value->is_boolean()) throw inputError(file, keyPath(key), "expected true or false");
     return value->get<bool>();
+}
+
+double optionNumber(const nlohmann::json& options, std::string_view key, double fallback, double lo, double hi,
+                    const std::string& file) {
+    const nlohmann::json* value = find(options, key);
+    if (!value) return fallback;
+    // Built with += (GCC 12's -Wrestrict misfires on chains of std::string operator+ here).
+    std::string range = "[";
+    range += nlohmann::json(lo).dump();
+    range += ", ";
+    range += nlohmann::json(hi).dump();
+    range += ']';
+    if (!value->is_number()) throw inputError(file, keyPath(key), "expected a number in " + range);
+    const double v = value->get<double>();
+    if (!(v >= lo && v <= hi)) {
+        std::string what = value->dump();
+        what += " is outside ";
+        what += range;
+        throw inputError(file, keyPath(key), what);
+    }
+    return v;
+}
+
+std::int64_t optionInteger(const nlohmann::json& options, std::string_view key, std::int64_t fallback, std::int64_t lo,
+                           std::int64_t hi, const std::string& file) {
+    const nlohmann::json* value = find(options, key);
+    if (!value) return fallback;
+    std::string range = std::to_string(lo);
+    range += "..";
+    range += std::to_string(hi);
+    if (!value->is_number_integer()) throw inputError(file, keyPath(key), "expected an integer in " + range);
+    const bool outside = value->is_number_unsigned() ? value->get<std::uint64_t>() > std::uint64_t(hi)
+                                                     : (value->get<std::int64_t>() < lo || value->get<std::int64_t>() > hi);
+    if (outside) {
+        std::string what = value->dump();
+        what += " is outside ";
+        what += range;
+        throw inputError(file, keyPath(key), what);
+    }
+    return value->get<std::int64_t>();
 }
 
 } // namespace tessera

@@ -47,6 +47,11 @@ std::vector<nlohmann::json> listedValues(const OptionInfo& o) {
         else if (o.kind == OptionInfo::Kind::Integer) values.push_back(std::stoll(std::string(v)));
         else values.push_back(std::string(v));
     }
+    if (o.kind == OptionInfo::Kind::Number) {  // both ends of the closed range and its middle
+        values.push_back(o.minNumber);
+        values.push_back(o.maxNumber);
+        values.push_back(0.5 * (o.minNumber + o.maxNumber));
+    }
     if (o.minInteger >= 0) {
         values.push_back(o.minInteger);
         values.push_back(o.minInteger + 7);
@@ -80,6 +85,7 @@ TEST_CASE("option catalogue: every implemented technique's keys, values, default
             const std::string faithful(o.faithful.substr(0, o.faithful.find(' ')));
             const auto asJson = [&](const std::string& text) -> nlohmann::json {
                 if (o.kind == OptionInfo::Kind::Bool) return text == "true";
+                if (o.kind == OptionInfo::Kind::Number) return std::stod(text);
                 if (o.kind != OptionInfo::Kind::Word && text.find_first_not_of("0123456789") == std::string::npos)
                     return std::stoll(text);
                 return text;

@@ -22,7 +22,8 @@ enum class Format : std::uint8_t {
     R32G32B32A32_FLOAT,
     D24_UNORM_S8_UINT,   // uint32: depth in bits 0..23, stencil in bits 24..31
     D32_FLOAT,
-    D32_FLOAT_S8X24_UINT // 8 bytes: float depth, then stencil in byte 4, 24 unused bits
+    D32_FLOAT_S8X24_UINT, // 8 bytes: float depth, then stencil in byte 4, 24 unused bits
+    R32G32B32A32_UINT     // HLSL uint4 / int4 (forward-plus-amd's 128-bit shadow mask per pixel)
 };
 
 enum class FormatKind : std::uint8_t { Unorm, Snorm, Float, Uint, DepthStencil };

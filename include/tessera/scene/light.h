@@ -29,6 +29,10 @@ struct Light {
     float length = 0.0f;  // capsule: the segment from positionWorld along directionWorld, world units
     bool enabled = true;
     std::uint8_t lightGroups = kAllLightGroups;  // the geometry groups it lights (mesh.h; deferred-classic, light-prepass)
+    // GPU Pro 4 ch. 5 (forward-plus-amd only): castsShadows: shadow rays to this light (§5.6.2);
+    // indirect: a spot or directional light whose reflective shadow map spawns VPLs (§5.5).
+    bool castsShadows = false;
+    bool indirect = false;
     std::string name;
 };
 

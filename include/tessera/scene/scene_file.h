@@ -46,6 +46,10 @@ struct SceneDescription {
     bool useGltfLights = false;                 // "gltfLights": {"enabled": true, ...}
     float gltfLightDefaultRange = 0.0f;         // "gltfLights": {"defaultRange": R}: replaces infinite KHR ranges (0: keep inf)
     std::vector<LightGeneratorSpec> generators; // "generate": [...]
+    // "shadowCasters": "none" (default) | "all" | [light indices into the final list: explicit,
+    // glTF, generated]; checked against the list's length by loadScene.
+    enum class ShadowCasters { None, All, List } shadowCasters = ShadowCasters::None;
+    std::vector<std::uint32_t> shadowCasterIndices;
 };
 
 // Parses and validates a scene file. Throws InputError naming the file and the key path

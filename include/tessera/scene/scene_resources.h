@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -16,6 +17,8 @@
 #include <tessera/texture/texture2d.h>
 
 namespace tessera {
+
+class ShadowRayScene;
 
 struct SceneVertex {
     glm::vec3 posObject{0.0f};
@@ -52,6 +55,9 @@ public:
     // time, in no fixed order); may be empty.
     explicit SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress = {},
                             TexturePolicy policy = TexturePolicy::Gltf);
+    ~SceneResources();
+    SceneResources(const SceneResources&) = delete;
+    SceneResources& operator=(const SceneResources&) = delete;
 
     const Scene& scene() const { return *mScene; }
     const std::vector<PrimitiveBuffer>& primitives() const { return mPrimitives; }
@@ -63,6 +69,9 @@ public:
     const Material& material(int index) const;
     std::size_t textureCount() const { return mTextures.size(); }
     std::size_t textureBytes() const;
+    // The opaque triangles' Embree BVH for shadow rays (raytrace/shadow_ray_scene.h): built on
+    // the first call (thread safe), then the same object for every frame of this scene.
+    const ShadowRayScene& shadowRayScene() const;
 
 private:
     const Scene* mScene;
@@ -71,6 +80,8 @@ private:
     std::map<std::pair<int, TexelEncoding>, Texture2D> mTextures;  // (image, encoding)
     Material mDefaultMaterial;
     SamplerState mDefaultSampler;
+    struct LazyShadowRays;
+    std::unique_ptr<LazyShadowRays> mShadowRays;
 };
 
 } // namespace tessera

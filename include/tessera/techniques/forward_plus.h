@@ -117,8 +117,10 @@ glm::vec4 forwardPlusHeatMapColor(std::uint32_t lightCount);
 // R8G8B8A8_UNORM back buffer cleared to the demo's colour and the D24_UNORM_S8_UINT "depth"
 // cleared to 1, 0) and "depth-prepass", the demo's g_pDepthPrepassPipeline: the opaque draw
 // items, VS only (with `setup.alphaTest` the alpha-test PS, nothing written), depth LESS with
-// writes, cull back (glTF doubleSided: none).
+// writes, cull back (glTF doubleSided: none). writeNormals (GPU Pro 4 §5.6.2, the pre-pass as a
+// G-pass): the pass also writes "gbuffer.normal" (R32G32B32A32_FLOAT, cleared to 0): the unit
+// WORLD normal, normalize(upper3x3(worldFromObject) * n), as AMD's shading forms it, w = 1.
 void addForwardPlusClearAndPrepass(Frame& frame, std::shared_ptr<const ForwardPassSetup> setup, Device* device,
-                                   const SceneResources* resources, DrawStats* stats);
+                                   const SceneResources* resources, DrawStats* stats, bool writeNormals = false);
 
 } // namespace tessera

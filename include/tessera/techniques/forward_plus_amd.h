@@ -37,14 +37,34 @@ namespace tessera {
 //   "lightLoop": "binned" (default) | "all-lights"   which lights each tile's culling loop visits
 //       (amd_light_culling.h AmdLightLoop): the same lists either way; "all-lights" is the kernel
 //       as GPU Pro 4 writes it, every tile over every light (2 s for 16384 lights at 1280x720).
+// GPU Pro 4 §5.6.2, many-light shadows by ray casting (techniques/amd_shadow_rays.h), when the
+// scene marks shadow-casting lights ("shadowCasters") and "shadows" is "auto" (default; "off"
+// skips them). The pre-pass also writes "gbuffer.normal"; "shadow-jobs" packs (pixel, slot) jobs;
+// "shadow-rays" casts one Embree ray each (raytrace/shadow_ray_scene.h: opaque triangles, robust
+// mode, BVH built once per scene) into "shadow.mask"; the opaque pass skips masked slots.
+//   "shadowNormalOffset": number >= 0, world units (default 0.01): ray origin off the surface
+//   "shadowBackfaces": "mask" (default) | "lit" | "cast"   lights behind the surface (ShadowBackfaces)
+//   "shadowOverflow": "lit" (default) | "unlit"   lights past the 128th slot of a tile list
+// Needs shading amd, halfZ false and 1 sample per pixel (InputError otherwise). The transparent
+// pass is not shadowed (no G-pass there). Alpha-tested geometry occludes as opaque triangles.
+// GPU Pro 4 §5.5 (the Leo demo's one-bounce light; techniques/amd_vpl.h), when a light has
+// "indirect": true and "indirect" is "auto" (default; "off" skips it): pass "rsm" renders the
+// light's reflective shadow map, "vpl" makes vplGrid^2 spot VPLs appended after the scene's lights
+// (culled like them); shading adds DiffuseTex * their diffuse light (isIndirectLight: index >=
+// scene light count), and pass "indirect" writes that term alone.
+//   "rsmSize": integer 1..4096 (256)   "vplGrid": integer 1..128, <= rsmSize (16)
+//   "vplConeDeg": 1..89 (60)   "vplRange": world units (4)   "vplIntensity": >= 0 (1)
+//   "vplDirection": "reflect" (default, the chapter's) | "normal"   "vplOffset": world units (0.01)
 // Depth: GPU Pro 4's convention (cleared to 1.0, pre-pass LESS, shading LESS_EQUAL without a
 // second write); ForwardPlus11's reversed depth is not modelled here.
 // Transparent (blended) geometry: neither GPU Pro 4 nor ForwardPlus11 shade it; tessera draws it
 // after the opaque pass as forward does (alpha blend, no depth write, cull none) with a second
 // list per tile over [near plane, maxZ] (cleared pixels count as the far plane; MinMax only), the
 // choice of 3dgep's transparent list. Shading amd outputs alpha = DiffuseTex.a * Opacity there.
-inline constexpr std::array<std::string_view, 7> kForwardPlusAmdOptionKeys{"shading", "culling", "halfZ",   "projection",
-                                                                           "sampler", "alphaTest", "lightLoop"};
+inline constexpr std::array<std::string_view, 19> kForwardPlusAmdOptionKeys{
+    "shading",        "culling",     "halfZ",      "projection", "sampler",      "alphaTest",  "lightLoop",
+    "shadows",        "shadowNormalOffset", "shadowBackfaces", "shadowOverflow", "indirect", "rsmSize", "vplGrid",
+    "vplConeDeg",     "vplRange",    "vplIntensity", "vplDirection", "vplOffset"};
 
 // Buffers (--dump writes them all; tiles = ceil(W / 8) x ceil(H / 8)):
 //   "backbuffer" R8G8B8A8_UNORM, "depth" D24_UNORM_S8_UINT (the pre-pass depth)
@@ -59,6 +79,14 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusAmdOptionKeys{"shad
 //   "heatmap.radar"         R8G8B8A8_UNORM, the screen size: ForwardPlus11's radar colour of the
 //                           tile's unclamped count (half-Z: the larger of A and B) against the
 //                           maximum LIGHT_CAPACITY = 256: 0 black, 256 light purple, > 256 white
+//   "gbuffer.normal"        R32G32B32A32_FLOAT, shadows only: unit world normal, w = 1 (0: empty)
+//   "shadow.jobs"           R32_UINT: the job buffer, laid out as the light index pool
+//   "shadow.mask"           R32G32B32A32_UINT: the per-pixel int4 mask, bit s = slot s shadowed
+//   "shadow.counters"       R32_UINT, 5 x 1: jobs, occluded rays, backface-masked slots, pixels
+//                           whose list passes 128 lights, overlapping lights past slot 127
+//   "rsm.position", "rsm.normal", "rsm.color" R32G32B32A32_FLOAT rsmSize^2, "rsm.depth" D32_FLOAT
+//   "vpl.position" (w: 1 valid), "vpl.direction" (w: cos cone), "vpl.color" (w: range), N x N
+//   "indirect"              R32G32B32A32_FLOAT: DiffuseTex * the VPLs' diffuse light
 //   "lightlist.counters"    R32_UINT, 8 x 3: LightListCounters (forward_plus.h) rows: opaque
 //                           (A), transparent, opaque far (B; zeros without half-Z).
 //                           requested = pool entries used, capacity = pool entries,

@@ -19,7 +19,8 @@ struct OptionInfo {
         Word,          // one of `values` as a JSON string
         Bool,          // true or false
         Integer,       // one of `values` (integers), or any integer >= minInteger when minInteger >= 0
-        IntegerOrWord  // an integer >= minInteger, or one of `values` as a JSON string
+        IntegerOrWord, // an integer >= minInteger, or one of `values` as a JSON string
+        Number         // a JSON number in [minNumber, maxNumber]
     };
     std::string_view key;
     Kind kind = Kind::Word;
@@ -29,6 +30,7 @@ struct OptionInfo {
     std::string_view corrected;                 // the correcting value; empty when the option corrects nothing
     int erratum = 0;                            // ERRATA.md row; 0 when none
     std::string_view meaning;                   // one line
+    double minNumber = 0.0, maxNumber = 0.0;    // Number: the closed range accepted
 };
 
 // The options of technique `id` (empty for an unknown id or one without options).

@@ -4,6 +4,7 @@
 // buildTechnique, against TechniqueInfo::optionKeys.
 #pragma once
 
+#include <cstdint>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -18,5 +19,13 @@ std::string optionEnum(const nlohmann::json& options, std::string_view key, std:
 
 // options[key] as a JSON boolean; `fallback` when the key is absent.
 bool optionBool(const nlohmann::json& options, std::string_view key, bool fallback, const std::string& file);
+
+// options[key] as a JSON number in [lo, hi]; `fallback` when the key is absent.
+double optionNumber(const nlohmann::json& options, std::string_view key, double fallback, double lo, double hi,
+                    const std::string& file);
+
+// options[key] as a JSON integer in [lo, hi]; `fallback` when the key is absent.
+std::int64_t optionInteger(const nlohmann::json& options, std::string_view key, std::int64_t fallback, std::int64_t lo,
+                           std::int64_t hi, const std::string& file);
 
 } // namespace tessera
