@@ -593,3 +593,38 @@ TEST_CASE("JSON nested deeper than 256 levels is refused before it is parsed or 
         scene(R"("options": {"x": )" + nested + R"(, "s": "\"[[[[{{{{)" + std::string(1000, '[') + "\"}"), kSceneFile);
     CHECK(d.techniqueOptions["x"].is_array());
 }
+
+TEST_CASE("shadow casters and the indirect light: all, none, a list checked against the final light list") {
+    const auto load = [](const std::string& extra) {
+        const std::string text = R"({"models": [{"path": "khronos/Box/glTF/Box.gltf"}],
+          "lights": [{"type": "point", "position": [0, 0, 0]},
+                     {"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "indirect": true}],
+          "generate": [{"count": 3, "seed": 1}])" + extra + "}";
+        const SceneDescription d = tessera::parseSceneJson(text, kSourceDir / "scenes/x.json");
+        return tessera::loadScene(d, false);
+    };
+    const tessera::Scene none = load("");
+    REQUIRE(none.lights.size() == 5);
+    for (const tessera::Light& l : none.lights) CHECK(!l.castsShadows);
+    CHECK(none.lights[1].indirect);
+    CHECK(!none.lights[0].indirect);
+    const tessera::Scene all = load(R"(, "shadowCasters": "all")");
+    for (const tessera::Light& l : all.lights) CHECK(l.castsShadows);  // generated lights too
+    const tessera::Scene list = load(R"(, "shadowCasters": [4, 0])");
+    CHECK(list.lights[0].castsShadows);
+    CHECK(!list.lights[1].castsShadows);
+    CHECK(list.lights[4].castsShadows);  // the last generated light: explicit 0..1, generated 2..4
+    try {
+        (void)load(R"(, "shadowCasters": [1, 5])");
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("/shadowCasters/1: light 5 does not exist (the scene has 5 lights") != std::string::npos);
+    }
+    expectError(scene(R"("shadowCasters": "some")"), "/shadowCasters", "is not \"all\", \"none\" or a list");
+    expectError(scene(R"("shadowCasters": [-1])"), "/shadowCasters/0", "");
+    expectError(scene(R"("lights": [{"type": "point", "position": [0, 0, 0], "indirect": true}])"), "/lights/0/indirect",
+                "spot or directional");
+    expectError(scene(R"("lights": [{"type": "directional", "direction": [0, -1, 0], "indirect": true},
+                                    {"type": "directional", "direction": [0, -1, 0], "indirect": true}])"),
+                "/lights/1/indirect", "only one light may be indirect");
+}
