@@ -52,9 +52,9 @@ struct AmdOptions {
     PhongSamplerChoice sampler = PhongSamplerChoice::Demo;
     bool alphaTest = false;
     AmdLightLoop lightLoop = AmdLightLoop::Binned;
-    bool shadows = true;   // "auto": ray-cast shadows when the scene has shadow-casting lights
+    std::string shadows = "auto";   // "auto" | "on" | "off"
     ShadowRayOptions shadowRays;
-    bool indirect = true;  // "auto": VPLs when the scene has an indirect light
+    std::string indirect = "auto";  // "auto" | "on" | "off"
     VplOptions vpl;
 };
 
@@ -77,15 +77,16 @@ AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
     o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
     o.lightLoop = optionEnum(ctx.options, "lightLoop", {"binned", "all-lights"}, "binned", file) == "binned" ? AmdLightLoop::Binned
                                                                                                      : AmdLightLoop::AllLights;
-    o.shadows = optionEnum(ctx.options, "shadows", {"auto", "off"}, "auto", file) == "auto";
+    o.shadows = optionEnum(ctx.options, "shadows", {"auto", "on", "off"}, "auto", file);
     o.shadowRays.normalOffset = float(optionNumber(ctx.options, "shadowNormalOffset", 0.01, 0.0, 1e6, file));
     const std::string backfaces = optionEnum(ctx.options, "shadowBackfaces", {"mask", "lit", "cast"}, "mask", file);
     o.shadowRays.backfaces = backfaces == "mask" ? ShadowBackfaces::Mask : backfaces == "lit" ? ShadowBackfaces::Lit : ShadowBackfaces::Cast;
     o.shadowRays.overflow = optionEnum(ctx.options, "shadowOverflow", {"lit", "unlit"}, "lit", file) == "lit" ? ShadowOverflow::Lit
                                                                                                           : ShadowOverflow::Unlit;
-    o.indirect = optionEnum(ctx.options, "indirect", {"auto", "off"}, "auto", file) == "auto";
+    o.indirect = optionEnum(ctx.options, "indirect", {"auto", "on", "off"}, "auto", file);
     o.vpl.rsmSize = std::uint32_t(optionInteger(ctx.options, "rsmSize", 256, 1, kMaxRsmSize, file));
-    o.vpl.grid = std::uint32_t(optionInteger(ctx.options, "vplGrid", 16, 1, kMaxVplGrid, file));
+    // vplGrid's default: 16, or the RSM's size when that is smaller.
+    o.vpl.grid = std::uint32_t(optionInteger(ctx.options, "vplGrid", std::min<std::int64_t>(16, o.vpl.rsmSize), 1, kMaxVplGrid, file));
     o.vpl.coneDeg = float(optionNumber(ctx.options, "vplConeDeg", 60.0, 1.0, 89.0, file));
     o.vpl.range = float(optionNumber(ctx.options, "vplRange", 4.0, 1e-6, 1e6, file));
     o.vpl.intensity = float(optionNumber(ctx.options, "vplIntensity", 1.0, 0.0, 1e6, file));
@@ -636,21 +637,25 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
         c.castsShadows = l.castsShadows && l.enabled && (l.type == LightType::Point || l.type == LightType::Spot);
         anyCaster = anyCaster || c.castsShadows;
     }
-    st->shadowsActive = st->options.shadows && anyCaster;
+    // "auto": what the scene asks for, where this configuration can do it; "on": the same, but a
+    // scene or configuration that cannot is an InputError naming the reason.
+    const Light* indirectLight = nullptr;
     for (const Light& l : sceneLights)
-        if (l.indirect && l.enabled && !st->indirectActive && st->options.indirect) {
-            st->indirectActive = true;
-            st->indirectLight = l;
-        }
-    if ((st->shadowsActive || st->indirectActive) && !st->options.shadingAmd)
-        throw inputError(file, "/options/shading",
-                         "ray-cast shadows and VPLs are shaded by \"shading\": \"amd\" (or set \"shadows\" / \"indirect\" to \"off\")");
-    if (st->shadowsActive && st->options.halfZ)
-        throw inputError(file, "/options/halfZ", "ray-cast shadows index the single opaque list per tile: halfZ must be false");
-    if (st->shadowsActive && ctx.sampleCount > 1)
-        throw inputError(file, "/options/shadows",
-                         "ray-cast shadows need 1 sample per pixel (the G-pass normal and the shadow mask are per pixel); "
-                         "use --msaa 1 or \"shadows\": \"off\"");
+        if (l.indirect && l.enabled && !indirectLight) indirectLight = &l;
+    const bool shadowsOn = st->options.shadows == "on", indirectOn = st->options.indirect == "on";
+    std::string shadowBlocker, indirectBlocker;  // why not, in this configuration
+    if (!anyCaster) shadowBlocker = "the scene marks no shadow-casting point or spot light (\"shadowCasters\")";
+    else if (!st->options.shadingAmd) shadowBlocker = "ray-cast shadows are shaded by \"shading\": \"amd\"";
+    else if (st->options.halfZ) shadowBlocker = "ray-cast shadows index the single opaque list per tile: halfZ must be false";
+    else if (ctx.sampleCount > 1)
+        shadowBlocker = "ray-cast shadows need 1 sample per pixel (the G-pass normal and the shadow mask are per pixel)";
+    if (!indirectLight) indirectBlocker = "the scene has no light with \"indirect\": true";
+    else if (!st->options.shadingAmd) indirectBlocker = "VPLs are shaded by \"shading\": \"amd\"";
+    if (shadowsOn && !shadowBlocker.empty()) throw inputError(file, "/options/shadows", "\"on\", but " + shadowBlocker);
+    if (indirectOn && !indirectBlocker.empty()) throw inputError(file, "/options/indirect", "\"on\", but " + indirectBlocker);
+    st->shadowsActive = st->options.shadows != "off" && shadowBlocker.empty();
+    st->indirectActive = st->options.indirect != "off" && indirectBlocker.empty();
+    if (st->indirectActive) st->indirectLight = *indirectLight;
     if (st->shadowsActive) {
         if (std::uint64_t{ctx.width} * ctx.height > kShadowMaxPixels)
             throw inputError(file, "/options/shadows",

@@ -46,7 +46,7 @@ constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
 constexpr std::array<std::string_view, 3> kEdgesPrc{"coverage", "depthNormal", "all"};
 constexpr std::array<std::string_view, 3> kEdgesIntel{"depthNormal", "coverage", "all"};
 constexpr std::array<std::string_view, 2> kMsaaFinal{"coverage", "perSample"};
-constexpr std::array<std::string_view, 2> kAutoOff{"auto", "off"};
+constexpr std::array<std::string_view, 3> kAutoOnOff{"auto", "on", "off"};
 constexpr std::array<std::string_view, 3> kShadowBackfaces{"mask", "lit", "cast"};
 constexpr std::array<std::string_view, 2> kShadowOverflow{"lit", "unlit"};
 constexpr std::array<std::string_view, 2> kVplDirection{"reflect", "normal"};
@@ -182,16 +182,17 @@ constexpr std::array<OptionInfo, 19> kForwardPlusAmd{
     OptionInfo{"lightLoop", Kind::Word, kLightLoop, -1, "binned", "", 0,
                "which lights each tile's culling loop visits: binned by tile rows, or all (GPU Pro 4's kernel); the "
                "same lists"},
-    OptionInfo{"shadows", Kind::Word, kAutoOff, -1, "auto", "", 0,
-               "GPU Pro 4 5.6.2 ray-cast shadows when the scene has shadow-casting lights, or never"},
+    OptionInfo{"shadows", Kind::Word, kAutoOnOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.6.2 ray-cast shadows when the scene has shadow-casting lights and the configuration allows "
+               "(on: an error otherwise), or never"},
     OptionInfo{"shadowNormalOffset", Kind::Number, kNone, -1, "0.01", "", 0,
                "world units along the G-pass normal from the rebuilt position to the shadow ray's origin", 0.0, 1e6},
     OptionInfo{"shadowBackfaces", Kind::Word, kShadowBackfaces, -1, "mask", "", 0,
                "a light behind the surface: masked without a ray, left lit, or ray cast"},
     OptionInfo{"shadowOverflow", Kind::Word, kShadowOverflow, -1, "lit", "", 0,
                "lights past the 128 mask slots of a pixel: shaded unshadowed, or dropped"},
-    OptionInfo{"indirect", Kind::Word, kAutoOff, -1, "auto", "", 0,
-               "GPU Pro 4 5.5 one-bounce VPLs when the scene has an indirect light, or never"},
+    OptionInfo{"indirect", Kind::Word, kAutoOnOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.5 one-bounce VPLs when the scene has an indirect light (on: an error otherwise), or never"},
     OptionInfo{"rsmSize", Kind::Integer, kNone, 1, "256", "", 0, "reflective shadow map edge in texels (at most 4096)"},
     OptionInfo{"vplGrid", Kind::Integer, kNone, 1, "16", "", 0, "N: N x N VPLs from the RSM's grid-cell centres (at most 128)"},
     OptionInfo{"vplConeDeg", Kind::Number, kNone, -1, "60", "", 0, "each VPL's spot half angle in degrees", 1.0, 89.0},

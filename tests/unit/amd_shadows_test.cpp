@@ -397,9 +397,18 @@ TEST_CASE("shadow rays: only what the scene asks for, and clear errors") {
         }
         return "";
     };
-    CHECK(errorOf({{"halfZ", true}}).find("/options/halfZ") != std::string::npos);
-    CHECK(errorOf({{"shading", "3dgep"}}).find("/options/shading") != std::string::npos);
-    CHECK(errorOf({}, 4).find("/options/shadows") != std::string::npos);
+    // "on" where they cannot run is an error naming the reason; "auto" runs without them.
+    CHECK(errorOf({{"shadows", "on"}, {"halfZ", true}}).find("/options/shadows: \"on\", but ray-cast shadows index") != std::string::npos);
+    CHECK(errorOf({{"shadows", "on"}, {"shading", "3dgep"}}).find("\"shading\": \"amd\"") != std::string::npos);
+    CHECK(errorOf({{"shadows", "on"}}, 4).find("1 sample per pixel") != std::string::npos);
+    CHECK(errorOf({{"halfZ", true}}).empty());
+    CHECK(errorOf({{"shading", "3dgep"}}).empty());
+    CHECK(errorOf({}, 4).empty());
+    CHECK(errorOf({{"shadows", "on"}}).empty());
+    {
+        test::Rendered out;
+        CHECK_THROWS_AS(test::render(none, "forward-plus-amd", {{"shadows", "on"}}, out, Precision::Exact, 2, {kW, kH}), InputError);
+    }
     CHECK(errorOf({{"shadowNormalOffset", -1}}).find("/options/shadowNormalOffset") != std::string::npos);
     CHECK(errorOf({{"shadowBackfaces", "skip"}}).find("/options/shadowBackfaces") != std::string::npos);
     CHECK(errorOf({{"shadows", "off"}, {"halfZ", true}}).empty());

@@ -182,5 +182,6 @@ TEST_CASE("vpl: indirect off is forward-plus-amd bit for bit, and the same at 1,
     CHECK(errorOf({{"vplGrid", 129}}).find("/options/vplGrid") != std::string::npos);
     CHECK(errorOf({{"vplConeDeg", 90}}).find("/options/vplConeDeg") != std::string::npos);
     CHECK(errorOf({{"rsmSize", 0}}).find("/options/rsmSize") != std::string::npos);
-    CHECK(errorOf({{"shading", "3dgep"}}).find("/options/shading") != std::string::npos);
+    CHECK(errorOf({{"indirect", "on"}, {"shading", "3dgep"}}).find("/options/indirect") != std::string::npos);
+    CHECK(errorOf({{"shading", "3dgep"}}).empty());  // "auto": no VPLs with the 3dgep shader
 }

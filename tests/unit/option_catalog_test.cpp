@@ -18,9 +18,21 @@ using namespace tessera;
 
 namespace {
 
+// One triangle lit by a shadow-casting point light and an indirect spot light, so that every
+// option value of forward-plus-amd's shadows and VPLs (including "on") has something to act on.
+Scene catalogueScene() {
+    Scene scene = test::oneTriangle(-2.0f);
+    Light point = test::makeLight(LightType::Point, {0.0f, 0.0f, -1.0f}, {0, 0, -1}, 5.0f, glm::vec3(1.0f));
+    point.castsShadows = true;
+    Light spot = test::makeLight(LightType::Spot, {0.0f, 0.0f, 0.0f}, {0, 0, -1}, 5.0f, glm::vec3(1.0f));
+    spot.indirect = true;
+    scene.lights = {point, spot};
+    return scene;
+}
+
 // "" when the technique builds and renders with these options, else the InputError's text.
 std::string buildError(std::string_view technique, const nlohmann::json& options) {
-    static const Scene scene = test::oneTriangle(-2.0f);
+    static const Scene scene = catalogueScene();
     static const SceneResources resources(scene);
     Device device(DeviceConfig{64, 1});
     TechniqueContext ctx;

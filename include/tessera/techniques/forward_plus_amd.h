@@ -38,21 +38,23 @@ namespace tessera {
 //       (amd_light_culling.h AmdLightLoop): the same lists either way; "all-lights" is the kernel
 //       as GPU Pro 4 writes it, every tile over every light (2 s for 16384 lights at 1280x720).
 // GPU Pro 4 §5.6.2, many-light shadows by ray casting (techniques/amd_shadow_rays.h), when the
-// scene marks shadow-casting lights ("shadowCasters") and "shadows" is "auto" (default; "off"
-// skips them). The pre-pass also writes "gbuffer.normal"; "shadow-jobs" packs (pixel, slot) jobs;
+// scene marks shadow-casting lights ("shadowCasters") and "shadows" is "auto" (default) or "on";
+// "off" skips them. The pre-pass also writes "gbuffer.normal"; "shadow-jobs" packs (pixel, slot) jobs;
 // "shadow-rays" casts one Embree ray each (raytrace/shadow_ray_scene.h: opaque triangles, robust
 // mode, BVH built once per scene) into "shadow.mask"; the opaque pass skips masked slots.
 //   "shadowNormalOffset": number >= 0, world units (default 0.01): ray origin off the surface
 //   "shadowBackfaces": "mask" (default) | "lit" | "cast"   lights behind the surface (ShadowBackfaces)
 //   "shadowOverflow": "lit" (default) | "unlit"   lights past the 128th slot of a tile list
-// Needs shading amd, halfZ false and 1 sample per pixel (InputError otherwise). The transparent
+// Needs shading amd, halfZ false and 1 sample per pixel: "auto" then runs without shadows, "on"
+// is an InputError naming the reason (as is "on" for a scene without casters). The transparent
 // pass is not shadowed (no G-pass there). Alpha-tested geometry occludes as opaque triangles.
 // GPU Pro 4 §5.5 (the Leo demo's one-bounce light; techniques/amd_vpl.h), when a light has
-// "indirect": true and "indirect" is "auto" (default; "off" skips it): pass "rsm" renders the
+// "indirect": true and "indirect" is "auto" (default) or "on" ("on" without such a light, or with
+// shading 3dgep, is an InputError; "auto" then skips it; "off" always does): pass "rsm" renders the
 // light's reflective shadow map, "vpl" makes vplGrid^2 spot VPLs appended after the scene's lights
 // (culled like them); shading adds DiffuseTex * their diffuse light (isIndirectLight: index >=
 // scene light count), and pass "indirect" writes that term alone.
-//   "rsmSize": integer 1..4096 (256)   "vplGrid": integer 1..128, <= rsmSize (16)
+//   "rsmSize": integer 1..4096 (256)   "vplGrid": integer 1..128, <= rsmSize (16, or rsmSize if less)
 //   "vplConeDeg": 1..89 (60)   "vplRange": world units (4)   "vplIntensity": >= 0 (1)
 //   "vplDirection": "reflect" (default, the chapter's) | "normal"   "vplOffset": world units (0.01)
 // Depth: GPU Pro 4's convention (cleared to 1.0, pre-pass LESS, shading LESS_EQUAL without a
