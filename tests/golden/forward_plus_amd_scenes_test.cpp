@@ -266,3 +266,23 @@ TEST_CASE("golden: default scene, forward-plus-amd, 320x180") {
 TEST_CASE("golden: Sponza with 64 small lights, forward-plus-amd, 320x180") {
     test::checkGoldenAtOneAndTwoThreads(scene("sponza-small-lights"), "forward-plus-amd");
 }
+
+// GPU Pro 4 §5.5 and §5.6.2 together: the sun's RSM and its 256 VPLs, ray-cast shadows from the
+// sun and 64 small lights (scenes/sponza-sun.json). Every extension buffer holds the same bytes
+// at 1 and 2 threads; the image is the golden.
+TEST_CASE("golden: Sponza sun (ray-cast shadows, VPL bounce), forward-plus-amd, 320x180") {
+    const test::BundledScene& s = scene("sponza-sun");
+    BufferRegistry one = s.render("forward-plus-amd", 1);
+    BufferRegistry two = s.render("forward-plus-amd", 2);
+    for (const char* buffer : {"rsm.position", "rsm.normal", "rsm.color", "vpl.position", "vpl.direction", "vpl.color", "gbuffer.normal",
+                               "shadow.jobs", "shadow.mask", "shadow.counters", "indirect", "backbuffer"}) {
+        CAPTURE(buffer);
+        REQUIRE(one.find(buffer) != nullptr);
+        CHECK(sameBytes(one.get(buffer), two.get(buffer)));
+    }
+    std::uint32_t counters[5];
+    std::memcpy(counters, one.get("shadow.counters").texel(0, 0), sizeof(counters));
+    CHECK(counters[0] > 10000);  // rays
+    CHECK(counters[1] > 1000);   // occluded
+    test::checkGolden(one.get(kBackBufferName), "sponza-sun", "forward-plus-amd");
+}
