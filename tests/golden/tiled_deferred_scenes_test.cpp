@@ -119,6 +119,9 @@ double listedPerInRangeBound(const std::string& scene, const std::string& option
         {"sponza-small-lights {}", 8.97},                                        // 8.1544
         {"sponza-small-lights {\"tilePlanes\":\"tile\"}", 6.31},               // 5.7346 (tight planes)
         {"sponza-small-lights {\"position\":\"gbuffer\",\"shading\":\"3dgep\"}", 8.97},// 8.1544
+        {"sponza-sun {}", 2.28},                                                 // 2.0724 (the commit adding it)
+        {"sponza-sun {\"tilePlanes\":\"tile\"}", 1.89},                        // 1.7097
+        {"sponza-sun {\"position\":\"gbuffer\",\"shading\":\"3dgep\"}", 2.28},   // 2.0724
     };
     return test::statedBound(bounds, scene + " " + options);
 }
