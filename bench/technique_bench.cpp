@@ -7,8 +7,12 @@
 //                        [--lights 1,2,4,...] [--threads 1,2] [--frames 5] [--warmup 1]
 //                        [--width 1280 --height 720] [--options '{"tileSize": 8}']
 //                        [--msaa 4] (MSAA: adds the edge-pixel and per-sample shares)
+//                        [--shadows] [--range 4,8]  (forward-plus-amd, GPU Pro 4 §5.6.2: every light
+//                        casts ray-cast shadows; --range sets the generated lights' range; adds the
+//                        rays, the ray-casting pass and rays per second per thread)
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -39,8 +43,14 @@ int main(int argc, char** argv) {
     std::vector<std::uint32_t> threadCounts = {1, 2};
     std::uint32_t frames = 5, warmup = 1, width = 1280, height = 720, msaa = 1;
     std::optional<nlohmann::json> options;  // --options: technique options for every technique run
+    bool shadows = false;
+    std::optional<glm::vec2> range;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
+        if (a == "--shadows") {
+            shadows = true;
+            continue;
+        }
         if (i + 1 >= argc) {
             std::fprintf(stderr, "%s needs a value\n", a.c_str());
             return 2;
@@ -55,6 +65,14 @@ int main(int argc, char** argv) {
         else if (a == "--width") width = splitUints(a, v).at(0);
         else if (a == "--height") height = splitUints(a, v).at(0);
         else if (a == "--msaa") msaa = splitUints(a, v).at(0);
+        else if (a == "--range") {
+            const std::vector<std::string> ends = split(v, ',');
+            if (ends.size() != 2) {
+                std::fprintf(stderr, "--range: '%s' is not LO,HI\n", v.c_str());
+                return 2;
+            }
+            range = glm::vec2(std::stof(ends[0]), std::stof(ends[1]));
+        }
         else if (a == "--options") {
             options = nlohmann::json::parse(v, nullptr, false);
             if (options->is_discarded() || !options->is_object()) {
@@ -88,9 +106,14 @@ int main(int argc, char** argv) {
                                        ("sponza-" + scenario + "-lights.json");
     SceneDescription desc = parseSceneFile(file);
     const std::uint32_t maxLights = lightCounts.empty() ? 0 : *std::max_element(lightCounts.begin(), lightCounts.end());
-    for (auto& g : desc.generators) g.count = maxLights;
+    for (auto& g : desc.generators) {
+        g.count = maxLights;
+        if (range) g.range = *range;
+    }
     Camera camera;
     Scene scene = loadScene(desc, true, &camera);
+    if (shadows)
+        for (Light& l : scene.lights) l.castsShadows = true;
     const std::vector<Light> allLights = scene.lights;
     // The techniques measured together must agree on how textures are decoded.
     const TexturePolicy policy = findTechnique(techniquesToRun.at(0))->textures;
@@ -104,6 +127,9 @@ int main(int argc, char** argv) {
 
     if (msaa > 1)
         std::printf("| technique | lights | threads | msaa | passes (median ms) | frame ms | edge pixels | PS calls per sample |\n"
+                    "|---|---|---|---|---|---|---|---|\n");
+    else if (shadows)
+        std::printf("| technique | lights | threads | passes (median ms) | frame ms | shadow rays | occluded | M rays/s per thread |\n"
                     "|---|---|---|---|---|---|---|---|\n");
     else std::printf("| technique | lights | threads | passes (median ms) | frame ms |\n|---|---|---|---|---|\n");
     for (const std::string& technique : techniquesToRun)
@@ -136,6 +162,7 @@ int main(int argc, char** argv) {
                 // and ends the warm-up: its first-touch costs are far below the run-to-run
                 // spread, and the long sweeps stay affordable.
                 std::uint32_t warmupLeft = warmup;
+                std::uint32_t rayCounters[5] = {};  // "shadow.counters" of the last run
                 while (frameMs.size() < frames) {
                     BufferRegistry registry;
                     const auto t0 = std::chrono::steady_clock::now();
@@ -147,6 +174,7 @@ int main(int argc, char** argv) {
                         warmupLeft = 0;
                     }
                     frameMs.push_back(ms);
+                    if (const Surface* c = registry.find("shadow.counters")) std::memcpy(rayCounters, c->bytes().data(), sizeof(rayCounters));
                     for (const PassTiming& t : timings) {
                         if (!passMs.count(t.name)) order.push_back(t.name);
                         passMs[t.name].push_back(t.milliseconds);
@@ -165,6 +193,11 @@ int main(int argc, char** argv) {
                     const double perSample = stats.psInvocations ? 100.0 * double(stats.psPerSample) / double(stats.psInvocations) : 0.0;
                     std::printf("| %s | %u | %u | %u | %s | %.2f | %.2f%% | %.2f%% |\n", technique.c_str(), n, threads, msaa, passes.c_str(),
                                 median(frameMs), edges, perSample);
+                } else if (shadows) {
+                    const double rayMs = passMs.count("shadow-rays") ? median(passMs["shadow-rays"]) : 0.0;
+                    const double perThread = rayMs > 0.0 ? double(rayCounters[0]) / (rayMs * 1e-3) / 1e6 / double(threads) : 0.0;
+                    std::printf("| %s | %u | %u | %s | %.2f | %u | %u | %.2f |\n", technique.c_str(), n, threads, passes.c_str(),
+                                median(frameMs), rayCounters[0], rayCounters[1], perThread);
                 } else {
                     std::printf("| %s | %u | %u | %s | %.2f |\n", technique.c_str(), n, threads, passes.c_str(), median(frameMs));
                 }

@@ -655,7 +655,14 @@ int render(const std::vector<std::string_view>& args) {
     const auto t0 = Clock::now();
     const fs::path sceneFile = resolveScene(o.scene);
     tessera::SceneDescription desc = describe(sceneFile);
-    if (!o.technique.empty()) desc.technique = o.technique;
+    if (!o.technique.empty() && o.technique != desc.technique) {
+        // A scene file's "options" belong to its own technique.
+        if (desc.techniqueOptions.is_object() && !desc.techniqueOptions.empty())
+            warn(sceneFile.string() + "'s options are " + desc.technique + "'s; --technique " + o.technique +
+                 " renders without them");
+        desc.techniqueOptions = nlohmann::json::object();
+        desc.technique = o.technique;
+    }
     if (!tessera::findTechnique(desc.technique)) {
         std::string ids;
         for (const tessera::TechniqueInfo& t : tessera::techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
@@ -709,6 +716,18 @@ int render(const std::vector<std::string_view>& args) {
         if (scene.usesLightGroups())
             warn(sceneFile.string() + " uses lightGroups; " + desc.technique +
                  " lights every surface with every light (deferred-classic and light-prepass honour the groups)");
+    }
+    // Ray-cast shadows and VPLs are GPU Pro 4's Forward+ extensions: forward-plus-amd alone.
+    if (desc.technique != "forward-plus-amd") {
+        const bool casters = std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.castsShadows; });
+        const bool indirect = std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.indirect; });
+        if (casters || indirect)
+            warn(sceneFile.string() + " marks " + (casters ? "shadow-casting" : "") + (casters && indirect ? " and " : "") +
+                 (indirect ? "indirect" : "") + " lights; " + desc.technique +
+                 " has no ray-cast shadows or VPLs (forward-plus-amd does), so they light as plain lights");
+    } else if (o.msaa > 1 && std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.castsShadows; })) {
+        warn("ray-cast shadows need 1 sample per pixel: --msaa " + std::to_string(o.msaa) + " renders " +
+             sceneFile.string() + " without them");
     }
     const double loadMs = msSince(t0);
     const auto t1 = Clock::now();
