@@ -22,7 +22,7 @@ using tessera::FormatKind;
 
 namespace {
 
-constexpr Format kLastFormat = Format::D32_FLOAT_S8X24_UINT;
+constexpr Format kLastFormat = Format::R32G32B32A32_UINT;
 
 std::vector<Format> allFormats() {
     std::vector<Format> out;
@@ -80,6 +80,7 @@ TEST_CASE("formatInfo: one hand-checked row per format") {
         {Format::D24_UNORM_S8_UINT, "D24_UNORM_S8_UINT", 4, 1, FormatKind::DepthStencil, false, true, true},
         {Format::D32_FLOAT, "D32_FLOAT", 4, 1, FormatKind::DepthStencil, false, true, false},
         {Format::D32_FLOAT_S8X24_UINT, "D32_FLOAT_S8X24_UINT", 8, 1, FormatKind::DepthStencil, false, true, true},
+        {Format::R32G32B32A32_UINT, "R32G32B32A32_UINT", 16, 4, FormatKind::Uint, false, false, false},
     };
     REQUIRE(rows.size() == allFormats().size());
     for (const Row& r : rows) {
@@ -191,6 +192,14 @@ TEST_CASE("decodeTexel: values and missing channels (0, 0, 0, 1) (§19.1.3.3)") 
     CHECK(word(u, 2) == 0u);
     CHECK(tessera::decodeTexelUint(Format::R32G32_UINT, reinterpret_cast<const std::byte*>(u.data())) ==
           glm::uvec4(0xDEADBEEFu, 7u, 0u, 1u));
+    // R32G32B32A32_UINT (the int4 shadow mask): all four words, raw.
+    tessera::encodeTexelUint(Format::R32G32B32A32_UINT, {0xFFFFFFFFu, 0x80000000u, 5u, 0u}, reinterpret_cast<std::byte*>(u.data()));
+    CHECK(word(u, 0) == 0xFFFFFFFFu);
+    CHECK(word(u, 1) == 0x80000000u);
+    CHECK(word(u, 2) == 5u);
+    CHECK(word(u, 3) == 0u);
+    CHECK(tessera::decodeTexelUint(Format::R32G32B32A32_UINT, reinterpret_cast<const std::byte*>(u.data())) ==
+          glm::uvec4(0xFFFFFFFFu, 0x80000000u, 5u, 0u));
     tessera::encodeTexelUint(Format::R32_UINT, {42u, 1u, 1u, 1u}, reinterpret_cast<std::byte*>(u.data()));
     CHECK(tessera::decodeTexelUint(Format::R32_UINT, reinterpret_cast<const std::byte*>(u.data())) ==
           glm::uvec4(42u, 0u, 0u, 1u));
