@@ -189,7 +189,7 @@ constexpr std::array<OptionInfo, 19> kForwardPlusAmd{
                "world units along the G-pass normal from the rebuilt position to the shadow ray's origin", 0.0, 1e6},
     OptionInfo{"shadowBackfaces", Kind::Word, kShadowBackfaces, -1, "mask", "", 0,
                "a light behind the surface: masked without a ray, left lit, or ray cast"},
-    OptionInfo{"shadowOverflow", Kind::Word, kShadowOverflow, -1, "lit", "", 0,
+    OptionInfo{"shadowOverflow", Kind::Word, kShadowOverflow, -1, "lit", "unlit", 31,
                "lights past the 128 mask slots of a pixel: shaded unshadowed, or dropped"},
     OptionInfo{"indirect", Kind::Word, kAutoOnOff, -1, "auto", "", 0,
                "GPU Pro 4 5.5 one-bounce VPLs when the scene has an indirect light (on: an error otherwise), or never"},
