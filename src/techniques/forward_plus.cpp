@@ -787,30 +787,17 @@ void writeHeatMap(Device& device, const Surface& grid, std::uint32_t block, Surf
     });
 }
 
-// The depth pre-pass PS with the alpha test: PS_main's alpha and discard, nothing written.
-struct PrepassAlphaTestPS {
+// The depth pre-pass pixel shaders: with kAlphaTest, PS_main's alpha and discard; with kNormal,
+// GPU Pro 4 §5.6.2's G-pass output, the unit world normal (PhongVS given worldFromObject as its
+// "view": normalView is the world normal, as AMD's shading reads it), w = 1. (Neither: no PS.)
+template <bool kAlphaTest, bool kNormal>
+struct PrepassPS {
     using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 0;
-    static constexpr bool kMayDiscard = true;
-    PhongShadeFn<float> shade = nullptr;
-    const PhongShaderData<float>* data = nullptr;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<0>& out) const {
-        Vec4<float> color;
-        if (!shade(*data, in, color)) out.discard();
-    }
-};
-
-// The pre-pass as GPU Pro 4 §5.6.2's G-pass: the alpha test as PrepassAlphaTestPS when it
-// applies, then the unit world normal (PhongVS given worldFromObject as its "view": normalView is
-// the world normal, as AMD's shading reads it), w = 1.
-template <bool kAlphaTest>
-struct PrepassNormalPS {
-    using Varyings = PhongVaryings;
-    static constexpr int kTargetCount = 1;
+    static constexpr int kTargetCount = kNormal ? 1 : 0;
     static constexpr bool kMayDiscard = kAlphaTest;
     PhongShadeFn<float> shade = nullptr;
     const PhongShaderData<float>* data = nullptr;
-    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<1>& out) const {
+    void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargetCount>& out) const {
         if constexpr (kAlphaTest) {
             Vec4<float> color;
             if (!shade(*data, in, color)) {
@@ -818,13 +805,13 @@ struct PrepassNormalPS {
                 return;
             }
         }
-        out.target[0] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
+        if constexpr (kNormal) out.target[0] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
     }
 };
 
 // The demo's depth pre-pass (g_pDepthPrepassPipeline): the opaque items, VS only, depth LESS with
 // writes, the opaque pass's culling (cull back; glTF doubleSided: none). With normalWorld, also
-// the G-pass normal (PrepassNormalPS): the same clip positions, so the same depth.
+// the G-pass normal (PrepassPS<., true>): the same clip positions, so the same depth.
 void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, Surface& depthSurface,
                       DrawStats* stats, Surface* normalWorld = nullptr) {
     RenderTargets rt;
@@ -846,11 +833,11 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
         DrawStats s;
         if (normalWorld) {
             const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
-            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassNormalPS<true>{variant.exact, &data})
-                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassNormalPS<false>{});
+            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, true>{variant.exact, &data})
+                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<false, true>{});
         } else if (variant.mayDiscard) {
             const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
-            s = device.draw(st, rt, vertices, prim.indices, vs, PrepassAlphaTestPS{variant.exact, &data});
+            s = device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, false>{variant.exact, &data});
         } else {
             s = device.draw(st, rt, vertices, prim.indices, vs, NoPixelShader{});
         }
