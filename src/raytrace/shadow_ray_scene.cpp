@@ -1,6 +1,6 @@
 // ShadowRayScene: one Embree device and scene per ShadowRayScene, one triangle geometry holding
 // every occluder, committed with RTC_SCENE_FLAG_ROBUST (Embree 3 API reference, rtcSetSceneFlags:
-// "avoid optimizations that reduce arithmetic accuracy") and queried with rtcOccluded1.
+// "avoid optimizations that reduce arithmetic accuracy") and queried in streams (rtcOccluded1M).
 #include <tessera/raytrace/shadow_ray_scene.h>
 
 #include <algorithm>
@@ -67,27 +67,6 @@ ShadowRayScene::ShadowRayScene(std::span<const glm::vec3> trianglesWorld) : mImp
 }
 
 ShadowRayScene::~ShadowRayScene() = default;
-
-bool ShadowRayScene::occluded(const glm::vec3& originWorld, const glm::vec3& directionWorld, float tFar) const {
-    if (mTriangleCount == 0) return false;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay ray;
-    ray.org_x = originWorld.x;
-    ray.org_y = originWorld.y;
-    ray.org_z = originWorld.z;
-    ray.dir_x = directionWorld.x;
-    ray.dir_y = directionWorld.y;
-    ray.dir_z = directionWorld.z;
-    ray.tnear = 0.0f;
-    ray.tfar = tFar;
-    ray.time = 0.0f;
-    ray.mask = ~0u;
-    ray.id = 0;
-    ray.flags = 0;
-    rtcOccluded1(mImpl->scene, &context, &ray);
-    return ray.tfar < 0.0f;  // rtcOccluded1 sets tfar to -inf on a hit
-}
 
 void ShadowRayScene::occluded(std::span<const Segment> segments, std::span<std::uint8_t> hit) const {
     if (mTriangleCount == 0) {

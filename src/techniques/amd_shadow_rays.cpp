@@ -75,7 +75,7 @@ ShadowJobs createShadowJobs(const ShadowPixels& pixels, const AmdTileLightLists&
                 }
                 if (options.backfaces != ShadowBackfaces::Cast && !(glm::dot(normal, light.positionWorld - posWorld) > 0.0f)) {
                     if (options.backfaces == ShadowBackfaces::Mask) {
-                        out.mask[std::size_t{pixel} * kShadowMaskWords + (slot >> 5)] |= 1u << (slot & 31u);
+                        out.mask[std::size_t{pixel} * kShadowMaskWords + shadowMaskWord(slot)] |= shadowMaskFlag(slot);
                         ++stats.backfaceMasked;
                     }
                     continue;
@@ -126,8 +126,8 @@ void castShadowJobs(const ShadowPixels& pixels, const AmdTileLightLists& lists, 
             const std::uint32_t job = jobs.jobs[j];
             const std::uint32_t pixel = shadowJobPixel(job), slot = shadowJobSlot(job);
             // The chapter's InterlockedOr: jobs of one pixel may run on different threads.
-            std::atomic_ref<std::uint32_t> word(jobs.mask[std::size_t{pixel} * kShadowMaskWords + (slot >> 5)]);
-            word.fetch_or(1u << (slot & 31u), std::memory_order_relaxed);
+            std::atomic_ref<std::uint32_t> word(jobs.mask[std::size_t{pixel} * kShadowMaskWords + shadowMaskWord(slot)]);
+            word.fetch_or(shadowMaskFlag(slot), std::memory_order_relaxed);
         }
         occludedCount.fetch_add(hits, std::memory_order_relaxed);
     });

@@ -237,6 +237,7 @@ void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
                 for (std::uint32_t x = 0; x < width; ++x) depth[i][std::size_t{y} * width + x] = depthSurface.loadDepth(x, y, i);
         });
     });
+    if (st.shadowsActive) st.depthWindow = depth[0];  // job creation's depth (1 sample: shadows refuse MSAA)
     std::vector<DepthImageView> depthViews;
     for (const std::vector<float>& d : depth) depthViews.push_back(DepthImageView{d, width, height});
     const std::span<const DepthImageView> depthView(depthViews);
@@ -369,7 +370,7 @@ struct AmdScenePS {
             const auto shadowed = [&](std::uint32_t slot) {
                 if (!mask) return false;
                 if (slot >= kShadowMaxSlots) return shade.overflowUnlit;
-                return ((mask[slot >> 5] >> (slot & 31u)) & 1u) != 0;
+                return shadowMaskBit(std::span<const std::uint32_t, kShadowMaskWords>(mask, kShadowMaskWords), slot);
             };
             for (std::uint32_t slot = 0; slot < list.size(); ++slot) {  // the point-light loop
                 const std::uint32_t index = list[slot];
@@ -552,22 +553,14 @@ ShadowPixels shadowPixelsOf(const AmdState& st) {
     return ShadowPixels{st.setup->width, st.setup->height, st.depthWindow, st.normalWorld, st.worldFromClip};
 }
 
-// "shadow-jobs": reads the G-pass (depth, normal) and the opaque lists, writes "shadow.jobs"
-// (R32_UINT, the job buffer laid out as the light index pool).
+// "shadow-jobs": reads the G-pass (the depth as the culling pass decoded it into st.depthWindow,
+// the normal) and the opaque lists, writes "shadow.jobs" (R32_UINT, the job buffer laid out as
+// the light index pool).
 void createJobsPass(AmdState& st, Device& device, BufferRegistry& reg) {
-    const Surface& depth = reg.get("depth");
     const Surface& normal = reg.get("gbuffer.normal");
-    const std::uint32_t width = st.setup->width, height = st.setup->height;
-    st.depthWindow.resize(std::size_t{width} * height);
-    st.normalWorld.resize(std::size_t{width} * height);
+    st.normalWorld.resize(std::size_t{st.setup->width} * st.setup->height);
     device.execute([&] {
-        tbb::parallel_for(std::uint32_t(0), height, [&](std::uint32_t y) {
-            for (std::uint32_t x = 0; x < width; ++x) {
-                const std::size_t p = std::size_t{y} * width + x;
-                st.depthWindow[p] = depth.loadDepth(x, y);
-                std::memcpy(&st.normalWorld[p], normal.texel(x, y), sizeof(glm::vec4));
-            }
-        });
+        std::memcpy(st.normalWorld.data(), normal.bytes().data(), st.normalWorld.size() * sizeof(glm::vec4));
         st.shadowJobs = createShadowJobs(shadowPixelsOf(st), st.opaque, st.casters, st.options.shadowRays);
     });
     Surface& jobs = reg.create("shadow.jobs", indexListDesc(st.shadowJobs.jobs.size()));

@@ -25,11 +25,9 @@ public:
     ShadowRayScene(const ShadowRayScene&) = delete;
     ShadowRayScene& operator=(const ShadowRayScene&) = delete;
 
-    // Whether a triangle meets the segment originWorld + t * directionWorld, t in [0, tFar]
-    // (Embree rtcOccluded1; both triangle faces; thread safe).
-    bool occluded(const glm::vec3& originWorld, const glm::vec3& directionWorld, float tFar) const;
-    // A batch of segments (Embree's stream API, rtcOccluded1M; answers equal occluded()'s: the
-    // same rays, robust mode). hit[i] = 1 where segment i is blocked, else 0.
+    // For each segment originWorld + t * directionWorld, t in [0, tFar]: whether a triangle
+    // meets it (both faces), hit[i] = 1 or 0. Embree's stream API (rtcOccluded1M) in robust mode;
+    // thread safe.
     struct Segment {
         glm::vec3 originWorld;
         glm::vec3 directionWorld;

@@ -35,8 +35,10 @@ constexpr std::uint32_t packShadowJob(std::uint32_t pixelIndex, std::uint32_t sl
 constexpr std::uint32_t shadowJobPixel(std::uint32_t job) { return job >> kShadowSlotBits; }
 constexpr std::uint32_t shadowJobSlot(std::uint32_t job) { return job & (kShadowMaxSlots - 1u); }
 // §10 item 9: slot s of a pixel's mask is mask[s >> 5] & (1 << (s & 31)).
+constexpr std::uint32_t shadowMaskWord(std::uint32_t slot) { return slot >> 5; }
+constexpr std::uint32_t shadowMaskFlag(std::uint32_t slot) { return 1u << (slot & 31u); }
 inline bool shadowMaskBit(std::span<const std::uint32_t, kShadowMaskWords> mask, std::uint32_t slot) {
-    return (mask[slot >> 5] >> (slot & 31u)) & 1u;
+    return (mask[shadowMaskWord(slot)] & shadowMaskFlag(slot)) != 0;
 }
 
 // What job creation does with a light behind the surface (dot(N, L) <= 0 for the G-pass normal):
