@@ -86,6 +86,9 @@ for p in "${patches[@]}"; do
         status=caught
     fi
     (cd "$TREE" && patch -p1 -R --quiet <"$p" >/dev/null)
+    # The reverted files keep mutant objects in $BUILD until rebuilt; touch them so the next build
+    # (next mutation, or a later run whose copy restores older mtimes) compiles the real source.
+    (cd "$TREE" && sed -n 's|^+++ b/\([^[:space:]]*\).*|\1|p' "$p" | xargs -r touch)
     rows+=("$(printf '%-28s %-9s %4ss  %s' "$name" "$status" $((SECONDS - started)) "$caught")")
     echo "   $status: $caught"
 done
