@@ -29,6 +29,7 @@
 #include <tessera/io/input_error.h>
 #include <tessera/io/json_depth.h>
 #include <tessera/scene/default_lights.h>
+#include <tessera/scene/depth_precision.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/option_catalog.h>
@@ -703,6 +704,7 @@ int render(const std::vector<std::string_view>& args) {
                                  "light from the camera, README \"Scenes\"); --no-default-lights turns it off\n",
                          sceneFile.string().c_str());
     }
+    if (const auto depth = tessera::depthPrecisionWarning(camera, scene.bounds())) warn(sceneFile.string() + ": " + *depth);
     // Capsule lights are the Cookbook's: every other technique skips them (viewLights disables them).
     if (desc.technique != "deferred-cookbook") {
         const auto capsules = std::count_if(scene.lights.begin(), scene.lights.end(),

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string_view>
 #include <system_error>
@@ -90,6 +91,25 @@ std::string formatNumber(double v) {
 }
 
 // Validating reader: every check throws inputError(file, path, what).
+// v / |v| in binary32 without overflow or underflow in |v|^2: v / sqrt(dot(v, v)) as before
+// where the squared length is a finite normal float (so ordinary inputs keep their bits), else
+// the vector is first divided by its largest magnitude (exact for powers of two, and any
+// finite nonzero vector then has a squared length in [1, 4)). Nullopt: zero or not finite.
+template <class V>
+std::optional<V> unitLength(const V& v) {
+    float dotSum = 0.0f, largest = 0.0f;
+    for (int i = 0; i < V::length(); ++i) {
+        dotSum += v[i] * v[i];
+        largest = std::max(largest, std::fabs(v[i]));
+    }
+    if (!(largest > 0.0f) || !std::isfinite(largest)) return std::nullopt;
+    if (std::isfinite(dotSum) && dotSum >= std::numeric_limits<float>::min()) return v / std::sqrt(dotSum);
+    const V scaled = v / largest;
+    float scaledSum = 0.0f;
+    for (int i = 0; i < V::length(); ++i) scaledSum += scaled[i] * scaled[i];
+    return scaled / std::sqrt(scaledSum);
+}
+
 class Reader {
 public:
     explicit Reader(std::string file) : mFile(std::move(file)) {}
@@ -219,21 +239,18 @@ public:
     }
     // A nonzero vector, normalized in binary32 (v / sqrt(dot(v, v))).
     glm::vec3 direction(const Json& value, const std::string& path) const {
-        const glm::vec3 v = vec3(value, path);
-        const float lengthSquared = (v.x * v.x + v.y * v.y) + v.z * v.z;
-        if (!(lengthSquared > 0.0f) || !std::isfinite(lengthSquared)) fail(path, "the direction is zero or too large");
-        const float length = std::sqrt(lengthSquared);
-        return {v.x / length, v.y / length, v.z / length};
+        const std::optional<glm::vec3> unit = unitLength(vec3(value, path));
+        if (!unit) fail(path, "the direction is zero");
+        return *unit;
     }
     // [x, y, z, w], nonzero, normalized.
     glm::quat quaternion(const Json& value, const std::string& path) const {
         requireSize(value, path, 4);
         const glm::quat q(number(value[3], at(path, 3)), number(value[0], at(path, 0)), number(value[1], at(path, 1)),
                           number(value[2], at(path, 2)));
-        const float lengthSquared = ((q.x * q.x + q.y * q.y) + q.z * q.z) + q.w * q.w;
-        if (!(lengthSquared > 0.0f) || !std::isfinite(lengthSquared)) fail(path, "the quaternion is zero or too large");
-        const float length = std::sqrt(lengthSquared);
-        return glm::quat(q.w / length, q.x / length, q.y / length, q.z / length);
+        const std::optional<glm::vec4> unit = unitLength(glm::vec4(q.x, q.y, q.z, q.w));
+        if (!unit) fail(path, "the quaternion is zero");
+        return glm::quat(unit->w, unit->x, unit->y, unit->z);
     }
     // [a, b] with a <= b, each checked by `element`.
     template <class Element>
@@ -326,9 +343,11 @@ void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
         const glm::vec3 target = r.vec3(value["target"], "/camera/target");
         const glm::vec3 up = hasUp ? r.direction(value["up"], "/camera/up") : glm::vec3(0.0f, 1.0f, 0.0f);
         const glm::vec3 forward = target - camera.positionWorld;
-        const float forwardLengthSquared = glm::dot(forward, forward);
-        if (!(forwardLengthSquared > 0.0f)) r.fail("/camera/target", "the target equals the position");
-        const glm::vec3 forwardUnit = forward / std::sqrt(forwardLengthSquared);
+        if (forward == glm::vec3(0.0f)) r.fail("/camera/target", "the target equals the position");
+        // Finite inputs can still differ by more than FLT_MAX (position 3e38, target -3e38).
+        const std::optional<glm::vec3> unit = unitLength(forward);
+        if (!unit) r.fail("/camera/target", "target - position overflows binary32 (a component beyond 3.4e38)");
+        const glm::vec3 forwardUnit = *unit;
         const glm::vec3 side = glm::cross(forwardUnit, up);
         if (!(glm::dot(side, side) > 1e-12f)) r.fail(hasUp ? "/camera/up" : "/camera/target", "\"up\" is parallel to the view direction");
         // Right-handed look-at: the camera's -Z looks along forwardUnit, +Y towards up.

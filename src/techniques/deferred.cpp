@@ -278,7 +278,10 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
         indices = kScreenQuadIndices;
     } else {
         // ModelView = View * T * R * S; ModelViewProjection = Projection * ModelView.
-        const glm::mat4 viewFromObject = fwd.viewFromWorld * setup.volumes.worldFromObject(light, setup.options.volumes);
+        const float reachWorld = light.range > kVolumeOverflowRange
+                                     ? frustumReachWorld(light.positionWorld, fwd.clipFromView * fwd.viewFromWorld)
+                                     : std::numeric_limits<float>::infinity();
+        const glm::mat4 viewFromObject = fwd.viewFromWorld * setup.volumes.worldFromObject(light, setup.options.volumes, reachWorld);
         vs.clipFromObject = fwd.clipFromView * viewFromObject;
         const bool sphere = light.type == LightType::Point;
         vertices = sphere ? std::span<const VolumeVertex>(setup.sphereVertices) : std::span<const VolumeVertex>(setup.coneVertices);

@@ -80,6 +80,7 @@ struct ForwardPlusState {
     glm::uvec2 tiles{0};               // tilesX, tilesY
     glm::mat4 inverseProjection{1.0f};  // ScreenToViewParams.InverseProjection = inverse(projection)
     glm::vec2 screenDimensions{0.0f};   // ScreenToViewParams.ScreenDimensions, px
+    bool orthographic = false;          // the camera's projection (tile planes: gridFrustumOrthographic)
     TileLightList opaqueList, transparentList;  // bound by the opaque / transparent passes
     std::shared_ptr<CullScratch> scratch;        // the culling's buffers, kept from frame to frame
 };
@@ -109,12 +110,17 @@ struct ComputeFrustumsKernel {
     glm::uvec2 numThreads{0};  // DispatchParams.numThreads: tiles per axis
     glm::vec2 screenDimensions{0.0f};
     glm::mat4 inverseProjection{1.0f};
+    float cornerDepthNdc = -1.0f;  // the demo's z = -1; 0 (the near plane) under the D3D projection
+    bool orthographic = false;     // planes through near and far corners (gridFrustumOrthographic)
     Frustum* outFrustums = nullptr;  // RWStructuredBuffer<Frustum> out_Frustums, x + y * numThreads.x
     void operator()(compute::GroupContext<Shared>& g) const {
         g.forEachThread([&](const compute::ThreadIds& t) {
             if (t.dispatchThreadId.x < numThreads.x && t.dispatchThreadId.y < numThreads.y) {
                 const std::size_t index = t.dispatchThreadId.x + std::size_t{t.dispatchThreadId.y} * numThreads.x;
-                outFrustums[index] = gridFrustum3dgep(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection);
+                outFrustums[index] =
+                    orthographic ? gridFrustumOrthographic(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection,
+                                                           cornerDepthNdc, 1.0f)
+                                 : gridFrustum3dgep(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection, cornerDepthNdc);
             }
         });
     }
@@ -880,6 +886,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
     // ScreenToViewParams (main.cpp): InverseProjection = glm::inverse(projection), ScreenDimensions.
     st->inverseProjection = glm::inverse(st->setup->clipFromView);
     st->screenDimensions = glm::vec2(float(ctx.width), float(ctx.height));
+    st->orthographic = ctx.camera.projection == ProjectionKind::Orthographic;
 
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
@@ -897,6 +904,9 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
                        kernel.numThreads = tiles;
                        kernel.screenDimensions = st->screenDimensions;
                        kernel.inverseProjection = st->inverseProjection;
+                       // Orthographic cameras take the D3D form under either option (projection3dgep).
+                       kernel.orthographic = st->orthographic;
+                       kernel.cornerDepthNdc = st->options.projection == ProjectionConvention::D3d || st->orthographic ? 0.0f : -1.0f;
                        kernel.outFrustums = frustums.data();
                        const glm::uvec3 groups((tiles.x + kBlock - 1) / kBlock, (tiles.y + kBlock - 1) / kBlock, 1);
                        device->execute([&] { compute::dispatch(kernel, groups, {compute::GroupOrder::Parallel, {}}); });

@@ -205,7 +205,22 @@ const VolumeMesh& LightVolumes::meshFor(LightType type) const {
     throw std::invalid_argument("LightVolumes::meshFor: directional lights have no volume (full-screen quad)");
 }
 
-glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOptions& options) const {
+float frustumReachWorld(const glm::vec3& posWorld, const glm::mat4& clipFromWorld) {
+    const glm::dmat4 worldFromClip = glm::inverse(glm::dmat4(clipFromWorld));
+    double reach = 0.0;
+    for (const double z : {-1.0, 0.0, 1.0})
+        for (const double y : {-1.0, 1.0})
+            for (const double x : {-1.0, 1.0}) {
+                const glm::dvec4 h = worldFromClip * glm::dvec4(x, y, z, 1.0);
+                const glm::dvec3 cornerWorld = glm::dvec3(h) / h.w;
+                const double distance = glm::length(cornerWorld - glm::dvec3(posWorld));
+                if (!std::isfinite(distance)) return std::numeric_limits<float>::infinity();
+                reach = std::max(reach, distance);
+            }
+    return static_cast<float>(std::min(reach, double(std::numeric_limits<float>::max())));
+}
+
+glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOptions& options, float reachWorld) const {
     if (light.type == LightType::Directional)
         throw std::invalid_argument("LightVolumes::worldFromObject: directional lights have no volume (full-screen quad)");
     const bool circumscribed = options.fit == VolumeFit::Circumscribed;
@@ -220,6 +235,8 @@ glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOpt
             scale.y *= mConeRadialScale;
         }
     }
+    if (light.range > kVolumeOverflowRange && std::isfinite(reachWorld) && light.range > 2.0f * reachWorld)
+        scale *= (2.0f * reachWorld) / light.range;
     glm::quat rotation(1.0f, 0.0f, 0.0f, 0.0f);
     const float dirLength = glm::length(light.directionWorld);
     if (dirLength > 0.0f && std::isfinite(dirLength))

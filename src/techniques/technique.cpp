@@ -4,6 +4,9 @@
 #include <tessera/techniques/technique.h>
 
 #include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/io/input_error.h>
@@ -85,7 +88,45 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
         }
     }
     checkSampleCount(*t, context.sampleCount, sceneFile);
+    checkFrameInputs(context, sceneFile);
     return t->build(context);
+}
+
+void checkFrameInputs(const TechniqueContext& context, const std::string& sceneFile) {
+    const Camera& c = context.camera;
+    const auto number = [](float v) {
+        std::ostringstream out;
+        out << v;
+        return out.str();
+    };
+    // A normal float: below FLT_MIN the projection's n*f/(f - n) and its inverse lose every bit.
+    if (!(c.nearZ >= std::numeric_limits<float>::min()) || !std::isfinite(c.nearZ))
+        throw inputError(sceneFile, "/camera/near", number(c.nearZ) + " is not a positive normal binary32 number (>= 1.18e-38)");
+    if (!(c.farZ > c.nearZ))
+        throw inputError(sceneFile, "/camera/far", "far " + number(c.farZ) + " is not greater than near " + number(c.nearZ));
+    if (c.projection == ProjectionKind::Perspective && !(c.fovYDeg > 0.0f && c.fovYDeg < 180.0f))
+        throw inputError(sceneFile, "/camera/fovYDeg", number(c.fovYDeg) + " is outside (0, 180) degrees");
+    if (c.projection == ProjectionKind::Orthographic &&
+        !(c.xMag > 0.0f && c.yMag > 0.0f && std::isfinite(c.xMag) && std::isfinite(c.yMag)))
+        throw inputError(sceneFile, "/camera", "orthographic magnifications " + number(c.xMag) + ", " + number(c.yMag) +
+                                                   " must be positive and finite");
+    if (!std::isfinite(c.positionWorld.x) || !std::isfinite(c.positionWorld.y) || !std::isfinite(c.positionWorld.z))
+        throw inputError(sceneFile, "/camera/position", "not finite");
+    if (context.resources == nullptr) return;
+    const std::vector<Light>& lights = context.resources->scene().lights;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        const std::string which = "light " + std::to_string(i) + (l.name.empty() ? "" : " ('" + l.name + "')");
+        // Every technique multiplies colour by intensity in binary32 (3dgep Light.Color * Intensity,
+        // AMD and Intel alike); an infinite product turns 0 x inf into NaN in the lighting sums.
+        const glm::vec3 radiance = l.color * l.intensity;
+        if (!std::isfinite(radiance.x) || !std::isfinite(radiance.y) || !std::isfinite(radiance.z))
+            throw inputError(sceneFile, "/lights", which + ": colour x intensity (" + number(l.color.x) + ", " + number(l.color.y) +
+                                                       ", " + number(l.color.z) + ") x " + number(l.intensity) +
+                                                       " overflows binary32 (each product must stay below 3.4e38)");
+        if (l.type != LightType::Directional && !(l.range > 0.0f))
+            throw inputError(sceneFile, "/lights", which + ": range " + number(l.range) + " is not positive");
+    }
 }
 
 

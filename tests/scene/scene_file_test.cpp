@@ -295,9 +295,34 @@ TEST_CASE("non-finite and non-binary32 numbers are rejected everywhere") {
     expectError(scene(R"("camera": {"position": [0, 0, 0], "rotation": [0, 0, 0, 1e300]})"), "/camera/rotation/3", "binary32");
     expectError(scene(R"("generate": [{"count": 1, "box": {"min": [0, 0, 0], "max": [1e50, 1, 1]}}])"), "/generate/0/box/max/0",
                 "binary32");
-    // Finite values whose squares overflow binary32.
-    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [3e38, 3e38, 0]}])"), "/lights/0/direction",
-                "zero or too large");
+    expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0]}])"), "/lights/0/direction",
+                "the direction is zero");
+}
+
+TEST_CASE("directions and quaternions whose squared length over- or underflows binary32 still normalize") {
+    // v / sqrt(dot(v, v)) is inf / inf = NaN for 3e38 (dot = 1.8e77) and 0 / 0 for 1e-30
+    // (dot = 2e-60 flushes to 0): the scaled path divides by the largest component first.
+    const SceneDescription big = tessera::parseSceneJson(
+        scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [3e38, 3e38, 0]}])"), "big.json");
+    CHECK(big.explicitLights[0].directionWorld.x == doctest::Approx(0.70710678).epsilon(1e-7));
+    CHECK(big.explicitLights[0].directionWorld.y == big.explicitLights[0].directionWorld.x);
+    const SceneDescription tiny = tessera::parseSceneJson(
+        scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, -1e-30, 1e-30]}])"), "tiny.json");
+    CHECK(tiny.explicitLights[0].directionWorld.y == doctest::Approx(-0.70710678).epsilon(1e-7));
+    CHECK(tiny.explicitLights[0].directionWorld.z == -tiny.explicitLights[0].directionWorld.y);
+    // Ordinary vectors keep the plain expression's bits: (1, 2, 2) / 3.
+    const SceneDescription plain = tessera::parseSceneJson(
+        scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [1, 2, 2]}])"), "plain.json");
+    CHECK(plain.explicitLights[0].directionWorld == glm::vec3(1.0f / 3.0f, 2.0f / 3.0f, 2.0f / 3.0f));
+    // A look-at camera 1e19 away: |target - position|^2 = 3e38 x ... overflowed and was refused as
+    // "up is parallel to the view direction"; now it looks at its target.
+    const SceneDescription far = tessera::parseSceneJson(
+        scene(R"("camera": {"position": [0, 0, 1e19], "target": [0, 0, 0]})"), "far.json");
+    const glm::vec3 forwardWorld = far.camera.orientationWorld * glm::vec3(0.0f, 0.0f, -1.0f);
+    CHECK(forwardWorld.z == doctest::Approx(-1.0));
+    // target - position = -6e38 is itself beyond binary32: refused with the real cause.
+    expectError(scene(R"("camera": {"position": [3e38, 0, 0], "target": [-3e38, 0, 1]})"), "/camera/target",
+                "target - position overflows binary32");
 }
 
 TEST_CASE("structural errors: required keys, conflicting camera forms, light types, technique, precision") {

@@ -4,7 +4,9 @@
 // Callers: frustum.h, tile_frustum.h, the Forward+ culling kernels and their tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/glm.hpp>
 
@@ -53,6 +55,26 @@ inline glm::vec3 normalize(const glm::vec3& v) {
     return {v.x / len, v.y / len, v.z / len};
 }
 
+// normalize(cross(a, b)) as every plane construction spells it, with one rescue: where the cross
+// product's squared length leaves binary32's normal range (under- or overflow: the tile corners of
+// a camera with near 1e-21 or of a world scaled by 1e-15 lie ~1e-21 from the eye, and their
+// cross product squared is ~1e-84), a and b are first scaled by powers of two so that their
+// largest components lie in [0.5, 1). The scaling is exact, so the normal is the same direction
+// the real numbers give; where the plain squared length is a normal float the bits are its own.
+inline glm::vec3 unitCross(const glm::vec3& a, const glm::vec3& b) {
+    const glm::vec3 c = cross(a, b);
+    const float lengthSquared = dot(c, c);
+    if (std::isfinite(lengthSquared) && lengthSquared >= std::numeric_limits<float>::min()) return normalize(c);
+    const auto powerOfTwoScaled = [](const glm::vec3& v) {
+        const float largest = std::max(std::max(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z));
+        if (!(largest > 0.0f) || !std::isfinite(largest)) return v;
+        int exponent = 0;
+        (void)std::frexp(largest, &exponent);
+        return glm::vec3(std::ldexp(v.x, -exponent), std::ldexp(v.y, -exponent), std::ldexp(v.z, -exponent));
+    };
+    return normalize(cross(powerOfTwoScaled(a), powerOfTwoScaled(b)));
+}
+
 }  // namespace cullmath
 
 // Signed distance `dot(N, p) - d` (view units when N is unit). Every test below compares it.
@@ -65,7 +87,7 @@ inline Plane computePlane(const glm::vec3& p0, const glm::vec3& p1, const glm::v
     const glm::vec3 v0 = p1 - p0;
     const glm::vec3 v2 = p2 - p0;
     Plane plane;
-    plane.N = cullmath::normalize(cullmath::cross(v0, v2));
+    plane.N = cullmath::unitCross(v0, v2);
     plane.d = cullmath::dot(plane.N, p0);
     return plane;
 }

@@ -37,10 +37,15 @@ inline glm::uvec2 tileCount(glm::uvec2 screenPx, std::uint32_t tileSizePx) {
 // The uint products tileId * BLOCK_SIZE are converted to float exactly (< 2^24). z = -1 is the
 // article's "far plane" for a right-handed system; under the demo's GL-form projection it is the
 // near plane (view z = -n, ERRATA #1); only the ray direction matters.
+// cornerDepthNdc: the screen z of the corners, -1 as the demo writes it. Under a D3D
+// (perspectiveRH_ZO) projection NDC z = -1 lies behind the near plane at view z = -nf/(2f - n),
+// where the inverse projection's w is a difference of two numbers near 1 that cancels to 0 once
+// n/f < 2^-24 (near 1e-21: every corner at infinity, ERRATA #32); forward-plus passes 0 there,
+// the ZO near plane, which stays finite.
 inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
-                                const glm::mat4& inverseProjection) {
+                                const glm::mat4& inverseProjection, float cornerDepthNdc = -1.0f) {
     const auto corner = [&](std::uint32_t tx, std::uint32_t ty) {
-        const glm::vec4 posScreen(static_cast<float>(tx * blockSizePx), static_cast<float>(ty * blockSizePx), -1.0f, 1.0f);
+        const glm::vec4 posScreen(static_cast<float>(tx * blockSizePx), static_cast<float>(ty * blockSizePx), cornerDepthNdc, 1.0f);
         return glm::vec3(screenToView(posScreen, screenDimensions, inverseProjection));
     };
     const glm::vec3 eyePos(0.0f);
@@ -51,6 +56,29 @@ inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, co
     frustum.planes[1] = computePlane(eyePos, viewSpace[1], viewSpace[3]);  // right
     frustum.planes[2] = computePlane(eyePos, viewSpace[0], viewSpace[1]);  // top
     frustum.planes[3] = computePlane(eyePos, viewSpace[3], viewSpace[2]);  // bottom
+    return frustum;
+}
+
+// An orthographic camera (which the 3dgep demo never had): its rays are parallel, so planes
+// through the eye are not the tile's sides (forward-plus culled lights that reached 489 of 3072
+// pixels of the extremes catalogue's orthographic room). Each side plane passes through the tile
+// corner a on the near plane and the corners a, b on the far plane, NDC z = nearNdc and farNdc
+// (the projection's depth range), same corner order and normal direction as gridFrustum3dgep.
+inline Frustum gridFrustumOrthographic(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
+                                       const glm::mat4& inverseProjection, float nearNdc, float farNdc) {
+    const auto corner = [&](std::uint32_t tx, std::uint32_t ty, float zNdc) {
+        const glm::vec4 posScreen(static_cast<float>(tx * blockSizePx), static_cast<float>(ty * blockSizePx), zNdc, 1.0f);
+        return glm::vec3(screenToView(posScreen, screenDimensions, inverseProjection));
+    };
+    const std::array<glm::uvec2, 4> c{tileId, tileId + glm::uvec2(1, 0), tileId + glm::uvec2(0, 1), tileId + glm::uvec2(1, 1)};
+    const auto side = [&](std::size_t a, std::size_t b) {
+        return computePlane(corner(c[a].x, c[a].y, nearNdc), corner(c[a].x, c[a].y, farNdc), corner(c[b].x, c[b].y, farNdc));
+    };
+    Frustum frustum;
+    frustum.planes[0] = side(2, 0);  // left
+    frustum.planes[1] = side(1, 3);  // right
+    frustum.planes[2] = side(0, 1);  // top
+    frustum.planes[3] = side(3, 2);  // bottom
     return frustum;
 }
 
@@ -96,7 +124,7 @@ inline std::array<glm::vec3, 4> tileSidePlanesAmd(glm::uvec2 groupId, std::uint3
     };
     const std::array<glm::vec3, 4> f{corner(pxm, pym), corner(pxp, pym), corner(pxp, pyp), corner(pxm, pyp)};
     std::array<glm::vec3, 4> eqn{};
-    for (std::size_t i = 0; i < 4; ++i) eqn[i] = cullmath::normalize(cullmath::cross(f[i], f[(i + 1) & 3u]));
+    for (std::size_t i = 0; i < 4; ++i) eqn[i] = cullmath::unitCross(f[i], f[(i + 1) & 3u]);
     return eqn;
 }
 

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -83,6 +84,14 @@ struct LightVolumeOptions {
     VolumeRotation rotation = VolumeRotation::Glm096;
 };
 
+// Ranges beyond this (world units) are scaled to the view's reach (LightVolumes::worldFromObject).
+inline constexpr float kVolumeOverflowRange = 1e30f;
+
+// The largest distance from posWorld to the view frustum of clipFromWorld: its corners at NDC
+// x, y = +-1 and z = -1, 0, 1 (both depth conventions' near and far planes), unprojected in
+// double. +inf when a corner is not finite (an infinite far plane).
+float frustumReachWorld(const glm::vec3& posWorld, const glm::mat4& clipFromWorld);
+
 // The two meshes of a frame with their circumscribe scales.
 class LightVolumes {
 public:
@@ -104,7 +113,13 @@ public:
     //          det_math.h's detTan (libm-independent).
     // A zero or non-finite direction gives no rotation. Throws std::invalid_argument for
     // directional lights.
-    glm::mat4 worldFromObject(const Light& light, const LightVolumeOptions& options = {}) const;
+    // reachWorld (frustumReachWorld): where Range exceeds kVolumeOverflowRange, the clip-space
+    // transform of a volume that large overflows binary32 (range 3e38 x the projection's 2.4:
+    // every vertex at infinity, the light lost), so S is scaled down uniformly until Range is
+    // 2 x reachWorld: the volume still holds every visible point the light reaches, and the
+    // shading keeps the light's own range. Other volumes are untouched.
+    glm::mat4 worldFromObject(const Light& light, const LightVolumeOptions& options = {},
+                              float reachWorld = std::numeric_limits<float>::infinity()) const;
 
 private:
     VolumeMesh mSphere, mCone;

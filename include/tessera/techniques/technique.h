@@ -78,6 +78,13 @@ inline constexpr std::string_view kBackBufferName = "backbuffer";
 inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
 // `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
 // inserted after the back buffer when `precision` is Reference.
+// What every technique needs of its inputs, checked by buildTechnique before anything is built:
+// near a positive normal float and far > near (far may be +inf), a perspective field of view in
+// (0, 180) degrees or positive orthographic magnifications, a finite camera position, and for
+// every light a finite colour x intensity in binary32 and a positive range. Throws InputError
+// naming `sceneFile` and the key ("/camera/near", "/lights": "light 3 ('key'): ...").
+void checkFrameInputs(const TechniqueContext& context, const std::string& sceneFile);
+
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision);
 
 // The target a technique draws its image into: the back buffer itself, or with MSAA
