@@ -46,7 +46,9 @@ std::optional<std::string> depthPrecisionWarning(const Camera& camera, const Bou
     // The near plane at which the farthest point gets a 1% step: step z^2 / n = 0.01 z (f >> n).
     const std::string advice = "a near plane of at least " + distance(kDepthStepNearOne * farthest / kDepthWarnRelativeStep) +
                                " resolves the scene to 1% (near " + distance(r.nearZ) + ", far " + distance(r.farZ) + ")";
-    if (farthest > r.collapseDistance)
+    // Depth reaches 1.0 at the far plane by construction; only a collapse well inside the frustum
+    // (before half the far distance) is the precision problem.
+    if (farthest > r.collapseDistance && r.collapseDistance < 0.5 * r.farZ)
         return "the depth range collapses: surfaces farther than " + distance(r.collapseDistance) +
                " from the eye (the scene reaches " + distance(farthest) +
                ") get depth 1.0, the cleared value, so a LESS depth test (forward) discards them and a depth pre-pass "

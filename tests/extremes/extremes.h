@@ -57,6 +57,8 @@ struct CaseOptions {
     // depthPrecisionWarning (scene/depth_precision.h) must warn: the depth buffer cannot resolve
     // the scene, and the equalities (which compare depth-tested images) are not asserted.
     bool depthWarning = false;
+    // Pixels an equality may miss, where the case derives why (binary32 world positions).
+    int maxEqualityPixels = 0;
 };
 
 struct CaseReport {
@@ -169,14 +171,14 @@ inline CaseReport runCase(const std::string& name, const TestScene& t, const Cas
             Rendered other;
             render(t, e.technique, e.options, other, Precision::Exact, 2, o.sizePx);
             const int pixels = differingPixels(forward.back(), other.back());
-            CHECK_MESSAGE(pixels == 0, "the corrected " << e.technique << " differs from forward on " << pixels << " pixels");
+            CHECK_MESSAGE(pixels <= o.maxEqualityPixels, "the corrected " << e.technique << " differs from forward on " << pixels << " pixels");
             report.equalityPixels.emplace_back(e.technique, pixels);
         }
         Rendered binned, all;
         render(t, "forward-plus-amd", nlohmann::json::object(), binned, Precision::Exact, 2, o.sizePx);
         render(t, "forward-plus-amd", {{"lightLoop", "all-lights"}}, all, Precision::Exact, 2, o.sizePx);
         const int pixels = differingPixels(binned.back(), all.back());
-        CHECK_MESSAGE(pixels == 0, "forward-plus-amd's binned lists miss light on " << pixels << " pixels");
+        CHECK_MESSAGE(pixels <= o.maxEqualityPixels, "forward-plus-amd's binned lists miss light on " << pixels << " pixels");
         report.equalityPixels.emplace_back("forward-plus-amd", pixels);
     }
     {
