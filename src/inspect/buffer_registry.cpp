@@ -3,6 +3,8 @@
 
 #include <stdexcept>
 
+#include <tessera/frame/memory_limit.h>
+
 namespace tessera {
 
 Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc) {
@@ -12,11 +14,26 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
             throw std::invalid_argument("buffer '" + name + "' already exists with a different size, format or sample count");
         return *s;
     }
+    // width, height <= 16384, samples <= 8, 16 B per texel: at most 2^35 B, no overflow.
+    const std::uint64_t bytes = std::uint64_t(desc.width) * desc.height * desc.sampleCount * formatInfo(desc.format).bytesPerTexel;
+    if (bytes > mByteLimit || mBytes > mByteLimit - bytes)
+        throw MemoryLimitError("buffer '" + name + "' (" + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+                               (desc.sampleCount > 1 ? " x" + std::to_string(desc.sampleCount) + " samples" : "") + ", " +
+                               std::string(formatInfo(desc.format).name) + ", " + formatBytes(double(bytes)) +
+                               ") would take the frame's buffers to " + formatBytes(double(mBytes + bytes)) +
+                               ", past the memory limit of " + formatBytes(double(mByteLimit)) +
+                               (mLimitHint.empty() ? "" : " (" + mLimitHint + ")"));
     auto surface = std::make_unique<Surface>(desc);
+    mBytes += bytes;
     Surface& ref = *surface;
     mBuffers.emplace(name, std::move(surface));
     mOrder.push_back(name);
     return ref;
+}
+
+void BufferRegistry::setByteLimit(std::uint64_t bytes, std::string hint) {
+    mByteLimit = bytes;
+    mLimitHint = std::move(hint);
 }
 
 Surface* BufferRegistry::find(std::string_view name) {

@@ -422,7 +422,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     setup->afterLightStep = ctx.afterLightStep;
     const DeferredOptions& opt = setup->options;
     setup->forward = makeForwardPassSetup(ctx, opt.projection, opt.sampler, opt.alphaTest);
-    setup->lightsWorld = ctx.resources->scene().lights;
+    setup->lightsWorld = ctx.lights();
     for (const glm::vec3& p : setup->volumes.sphere().positions) setup->sphereVertices.push_back({p});
     for (const glm::vec3& p : setup->volumes.cone().positions) setup->coneVertices.push_back({p});
     setup->separateAccumulation = opt.floatTargets || opt.accumulateLighting;

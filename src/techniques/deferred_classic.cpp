@@ -412,7 +412,7 @@ Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     if (lightGroups && ctx.sampleCount > 1)
         throw inputError(file, "/lights", "the scene uses lightGroups, which take all eight stencil bits, and MSAA's edge pass "
                                           "needs one of them: render it without --msaa, or without lightGroups");
-    setup->draws = planDraws(ctx.resources->scene().lights, opt, *setup->forward, ctx.camera, lightGroups);
+    setup->draws = planDraws(ctx.lights(), opt, *setup->forward, ctx.camera, lightGroups);
 
     const bool reference = ctx.precision == Precision::Reference;
     const std::uint32_t samples = ctx.sampleCount;

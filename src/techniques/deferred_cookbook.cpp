@@ -441,7 +441,7 @@ Frame buildDeferredCookbook(const TechniqueContext& ctx) {
     g.printedUnpack = opt.printedUnpack;
     g.vertexCpPos = opt.vertexCpPos;
     setup->worldFromView = glm::transpose(glm::mat3(fwd.viewFromWorld));  // the view is rigid
-    setup->draws = planDraws(ctx.resources->scene().lights, opt, viewLh, projectionLh);
+    setup->draws = planDraws(ctx.lights(), opt, viewLh, projectionLh);
 
     const bool reference = ctx.precision == Precision::Reference;
     // With MSAA every buffer has `samples` samples and the image is resolved last (technique.h).

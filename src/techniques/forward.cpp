@@ -86,8 +86,8 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     setup->textures = std::make_unique<PhongTextureSet>(res, sampler);
     // Lights in the scene's order, to view space once per frame (the demo's UpdateLights).
     // Float lights always (the techniques' culling reads them), double ones for reference shading.
-    setup->lightsExact = viewLights<float>(res.scene().lights, setup->viewFromWorld);
-    if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(res.scene().lights, setup->viewFromWorld);
+    setup->lightsExact = viewLights<float>(ctx.lights(), setup->viewFromWorld);
+    if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(ctx.lights(), setup->viewFromWorld);
     if (ctx.precision == Precision::Fast) setup->fastLights = std::make_shared<const FastLightSet>(FastLightSet::build(setup->lightsExact));
     return setup;
 }

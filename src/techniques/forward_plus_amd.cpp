@@ -612,7 +612,7 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const glm::mat4 flipZ(glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, -1, 0), glm::vec4(0, 0, 0, 1));
     st->inverseProjectionLh = glm::inverse(st->setup->clipFromView * flipZ);
     st->cameraPosWorld = ctx.camera.positionWorld;
-    const std::vector<Light>& sceneLights = ctx.resources->scene().lights;
+    const std::vector<Light>& sceneLights = ctx.lights();
     convertLights(*st, sceneLights);
     st->sceneLightCount = std::uint32_t(sceneLights.size());
 

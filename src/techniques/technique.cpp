@@ -3,6 +3,7 @@
 // naming one gets a clear "not implemented yet" instead of "unknown".
 #include <tessera/techniques/technique.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -92,6 +93,43 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
     return t->build(context);
 }
 
+FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueContext& context, const std::string& sceneFile) {
+    const std::vector<Light>& all = context.lights();
+    const std::size_t lights1 = std::min<std::size_t>(all.size(), 32), lights2 = std::min<std::size_t>(all.size(), 64);
+    constexpr std::uint32_t kProbeHeight = 64, kProbeWidth1 = 64, kProbeWidth2 = 128;  // px, multiples of every tile size
+    const auto total = [&](std::uint32_t width, std::size_t lightCount) {
+        TechniqueContext probe = context;
+        const std::vector<Light> prefix(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(lightCount));
+        probe.lightsOverride = &prefix;
+        if (!(probe.camera.aspect > 0.0f)) probe.camera.aspect = float(context.width) / float(context.height);
+        probe.width = width;
+        probe.height = kProbeHeight;
+        probe.stats = nullptr;
+        probe.variantCounts = nullptr;
+        probe.afterLightStep = {};
+        BufferRegistry registry;
+        buildTechnique(id, probe, sceneFile).run(registry);
+        return double(registry.bytes());
+    };
+    const double p1 = double(kProbeWidth1) * kProbeHeight, p2 = double(kProbeWidth2) * kProbeHeight;
+    const double b11 = total(kProbeWidth1, lights1), b21 = total(kProbeWidth2, lights1);
+    double b = (b21 - b11) / (p2 - p1), a = b11 - b * p1, c = 0.0, d = 0.0;
+    if (lights2 > lights1) {
+        const double l1 = double(lights1), l2 = double(lights2);
+        const double b12 = total(kProbeWidth1, lights2), b22 = total(kProbeWidth2, lights2);
+        d = (b22 - b21 - b12 + b11) / ((p2 - p1) * (l2 - l1));
+        b = (b21 - b11) / (p2 - p1) - d * l1;
+        c = (b12 - b11) / (l2 - l1) - d * p1;
+        a = b11 - b * p1 - c * l1 - d * p1 * l1;
+    }
+    const double pixels = double(context.width) * double(context.height), lightCount = double(all.size());
+    FrameMemoryEstimate e;
+    e.bytesPerPixel = std::max(0.0, b + d * lightCount);
+    e.fixedBytes = std::max(0.0, a + c * lightCount);
+    e.bytes = std::max(b11, e.fixedBytes + e.bytesPerPixel * pixels);
+    return e;
+}
+
 void checkFrameInputs(const TechniqueContext& context, const std::string& sceneFile) {
     const Camera& c = context.camera;
     const auto number = [](float v) {
@@ -113,7 +151,7 @@ void checkFrameInputs(const TechniqueContext& context, const std::string& sceneF
     if (!std::isfinite(c.positionWorld.x) || !std::isfinite(c.positionWorld.y) || !std::isfinite(c.positionWorld.z))
         throw inputError(sceneFile, "/camera/position", "not finite");
     if (context.resources == nullptr) return;
-    const std::vector<Light>& lights = context.resources->scene().lights;
+    const std::vector<Light>& lights = context.lights();
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const Light& l = lights[i];
         const std::string which = "light " + std::to_string(i) + (l.name.empty() ? "" : " ('" + l.name + "')");

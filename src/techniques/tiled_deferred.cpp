@@ -535,7 +535,7 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     setup->ranges.resize(tileTotal);
 
     // Lights to view space once per frame (the sample's per-frame light buffer upload).
-    const std::vector<Light>& lights = ctx.resources->scene().lights;
+    const std::vector<Light>& lights = ctx.lights();
     const std::vector<ViewLight<float>>& viewLights = setup->forward->lightsExact;
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const ViewLight<float>& v = viewLights[i];

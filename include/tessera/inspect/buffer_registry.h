@@ -3,6 +3,7 @@
 // Names are kept in registration order; a buffer's address is stable for the registry's life.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -16,8 +17,15 @@ namespace tessera {
 class BufferRegistry {
 public:
     // Creates (or, if `name` exists with the same desc, returns) a surface. Throws
-    // std::invalid_argument naming the buffer when it exists with a different desc.
+    // std::invalid_argument naming the buffer when it exists with a different desc, and
+    // MemoryLimitError (frame/memory_limit.h) naming it, its size and the limit, before
+    // allocating, when the registry's buffers would pass the byte limit.
     Surface& create(const std::string& name, const SurfaceDesc& desc);
+    // The most bytes the registry's buffers may hold together (default: no limit); `hint` ends
+    // the error message (how to raise it).
+    void setByteLimit(std::uint64_t bytes, std::string hint = {});
+    // Bytes held by every buffer (texel storage).
+    std::uint64_t bytes() const { return mBytes; }
     // nullptr when absent.
     Surface* find(std::string_view name);
     const Surface* find(std::string_view name) const;
@@ -29,6 +37,8 @@ public:
 private:
     std::map<std::string, std::unique_ptr<Surface>, std::less<>> mBuffers;
     std::vector<std::string> mOrder;
+    std::uint64_t mBytes = 0, mByteLimit = ~std::uint64_t{0};
+    std::string mLimitHint;
 };
 
 } // namespace tessera

@@ -40,8 +40,13 @@ struct TechniqueContext {
     // Empty: no calls.
     std::function<void(std::size_t light, std::string_view step, const BufferRegistry& registry)> afterLightStep;
 
+    // The frame's lights; null: the scene's (resources->scene().lights). estimateFrameMemory
+    // renders its probe frames with a prefix of the list.
+    const std::vector<Light>* lightsOverride = nullptr;
+
     // The file InputErrors name: sceneFile, or "scene" for an in-memory scene.
     std::string errorFile() const { return sceneFile.empty() ? std::string("scene") : sceneFile; }
+    const std::vector<Light>& lights() const { return lightsOverride ? *lightsOverride : resources->scene().lights; }
 };
 
 
@@ -78,6 +83,20 @@ inline constexpr std::string_view kBackBufferName = "backbuffer";
 inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
 // `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
 // inserted after the back buffer when `precision` is Reference.
+// The bytes a frame's buffers will hold (BufferRegistry::bytes after run) for `context`, from four
+// probe frames rendered with the same technique, options, samples, precision and camera (its
+// aspect kept): 64x64 and 128x64 px, with the first min(L, 32) and min(L, 64) of the L lights.
+// Buffers grow with pixels (targets, per-tile lists, shadow jobs), with lights (light arrays,
+// unbounded lists) and with both, so the estimate is the bilinear fit
+// a + b P + c L + d P L through the four totals, evaluated at the frame's P = width x height.
+// Transient memory inside passes (scratch lists, per-thread tiles) is not included.
+struct FrameMemoryEstimate {
+    double bytes = 0.0;            // the estimate for the frame
+    double bytesPerPixel = 0.0;    // b + d L: what each pixel adds
+    double fixedBytes = 0.0;       // a + c L: what does not grow with pixels
+};
+FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueContext& context, const std::string& sceneFile);
+
 // What every technique needs of its inputs, checked by buildTechnique before anything is built:
 // near a positive normal float and far > near (far may be +inf), a perspective field of view in
 // (0, 180) degrees or positive orthographic magnifications, a finite camera position, and for
