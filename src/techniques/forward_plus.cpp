@@ -110,8 +110,7 @@ struct ComputeFrustumsKernel {
     glm::uvec2 numThreads{0};  // DispatchParams.numThreads: tiles per axis
     glm::vec2 screenDimensions{0.0f};
     glm::mat4 inverseProjection{1.0f};
-    float cornerDepthNdc = -1.0f;  // the demo's z = -1; 0 (the near plane) under the D3D projection
-    bool orthographic = false;     // planes through near and far corners (gridFrustumOrthographic)
+    bool orthographic = false;  // planes through near and far corners (gridFrustumOrthographic)
     Frustum* outFrustums = nullptr;  // RWStructuredBuffer<Frustum> out_Frustums, x + y * numThreads.x
     void operator()(compute::GroupContext<Shared>& g) const {
         g.forEachThread([&](const compute::ThreadIds& t) {
@@ -119,8 +118,8 @@ struct ComputeFrustumsKernel {
                 const std::size_t index = t.dispatchThreadId.x + std::size_t{t.dispatchThreadId.y} * numThreads.x;
                 outFrustums[index] =
                     orthographic ? gridFrustumOrthographic(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection,
-                                                           cornerDepthNdc, 1.0f)
-                                 : gridFrustum3dgep(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection, cornerDepthNdc);
+                                                           0.0f, 1.0f)
+                                 : gridFrustum3dgep(glm::uvec2(t.dispatchThreadId), kBlock, screenDimensions, inverseProjection);
             }
         });
     }
@@ -904,9 +903,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
                        kernel.numThreads = tiles;
                        kernel.screenDimensions = st->screenDimensions;
                        kernel.inverseProjection = st->inverseProjection;
-                       // Orthographic cameras take the D3D form under either option (projection3dgep).
                        kernel.orthographic = st->orthographic;
-                       kernel.cornerDepthNdc = st->options.projection == ProjectionConvention::D3d || st->orthographic ? 0.0f : -1.0f;
                        kernel.outFrustums = frustums.data();
                        const glm::uvec3 groups((tiles.x + kBlock - 1) / kBlock, (tiles.y + kBlock - 1) / kBlock, 1);
                        device->execute([&] { compute::dispatch(kernel, groups, {compute::GroupOrder::Parallel, {}}); });

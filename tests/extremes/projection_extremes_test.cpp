@@ -50,7 +50,7 @@ TEST_CASE("projection: near 1e-7 far 1e9 (ratio 1e16) collapses every depth to 1
 
 TEST_CASE("projection: near 1e-21") {
     // Every depth rounds to 1.0 (n/z ~ 1e-22): warned. The tile planes stay finite: the plane
-    // normals' power-of-two rescue (cullmath::unitCross) and the ZO near-plane corners.
+    // normals' power-of-two rescue (cullmath::unitCross).
     CaseOptions o;
     o.depthWarning = true;
     o.maxReferenceCodes = 0;

@@ -259,3 +259,42 @@ TEST_CASE("AMD ForwardPlus11 padded-grid corners miss pixels at 1920x1080 (1080 
     const auto b = tileSidePlanesAmd({7, 44}, 16, {1280, 720}, invAmd, AmdTileCorners::Screen);
     for (std::size_t i = 0; i < 4; ++i) CHECK(a[i] == b[i]);
 }
+
+TEST_CASE("3dgep grid frustums under a D3D projection with near 1e-21: corners 5e-22 from the eye, planes of the usual directions") {
+    // perspectiveRH_ZO: NDC z = -1 is view z = -n f / (2 f - n) = -5e-22 here. The corners' cross
+    // products (~1e-43) square to 0 in binary32, so normalize(cross) was inf / NaN (192 NaN
+    // planes in forward-plus's frustums dump); unitCross rescales them, and the planes are the
+    // directions they are at near 0.1 (which depend only on the field of view and the screen).
+    const glm::vec2 screen(64.0f, 48.0f);
+    const glm::mat4 tiny = glm::inverse(glm::perspectiveRH_ZO(glm::radians(45.0f), 64.0f / 48.0f, 1e-21f, 100.0f));
+    const glm::mat4 usual = glm::inverse(glm::perspectiveRH_ZO(glm::radians(45.0f), 64.0f / 48.0f, 0.1f, 100.0f));
+    CHECK(screenToView(glm::vec4(16.0f, 16.0f, -1.0f, 1.0f), screen, tiny).z == doctest::Approx(-5e-22).epsilon(1e-3));
+    const Frustum rescued = gridFrustum3dgep({1, 1}, 16, screen, tiny);
+    const Frustum reference = gridFrustum3dgep({1, 1}, 16, screen, usual);
+    for (std::size_t i = 0; i < 4; ++i) {
+        CAPTURE(i);
+        CHECK(rescued.planes[i].N.x == doctest::Approx(reference.planes[i].N.x).epsilon(1e-5));
+        CHECK(rescued.planes[i].N.y == doctest::Approx(reference.planes[i].N.y).epsilon(1e-5));
+        CHECK(rescued.planes[i].N.z == doctest::Approx(reference.planes[i].N.z).epsilon(1e-5));
+        CHECK(rescued.planes[i].d == 0.0f);
+    }
+}
+
+TEST_CASE("plane normals: corners 1e-21 from the eye underflow normalize(cross) and unitCross rescues them") {
+    // cross of two vectors of length ~1e-21 has length ~1e-42 (subnormal), its square ~1e-84
+    // flushes to 0: normalize divides by 0. Scaled by 2^70 first (exact), the same direction.
+    const glm::vec3 a(1e-21f, 0.0f, -1e-21f), b(0.0f, 1e-21f, -1e-21f);
+    const glm::vec3 plain = cullmath::normalize(cullmath::cross(a, b));
+    CHECK_FALSE(std::isfinite(plain.x));  // 1e-42 / sqrt(0)
+    const glm::vec3 rescued = cullmath::unitCross(a, b);
+    const glm::vec3 expected = cullmath::normalize(cullmath::cross(a * 1e21f, b * 1e21f));
+    CHECK(rescued.x == doctest::Approx(expected.x).epsilon(1e-6));
+    CHECK(rescued.y == doctest::Approx(expected.y).epsilon(1e-6));
+    CHECK(rescued.z == doctest::Approx(expected.z).epsilon(1e-6));
+    // Ordinary inputs: the plain expression's bits.
+    const glm::vec3 c(0.3f, -1.2f, 2.0f), d(1.7f, 0.4f, -0.9f);
+    CHECK(cullmath::unitCross(c, d) == cullmath::normalize(cullmath::cross(c, d)));
+    // And 1e19-sized corners, whose squared cross product overflows.
+    const glm::vec3 big = cullmath::unitCross(a * 1e20f * 1e20f, b * 1e20f * 1e20f);
+    CHECK(big.x == doctest::Approx(expected.x).epsilon(1e-6));
+}

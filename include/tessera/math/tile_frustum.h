@@ -36,16 +36,13 @@ inline glm::uvec2 tileCount(glm::uvec2 screenPx, std::uint32_t tileSizePx) {
 //   planes: Left (eye, v2, v0), Right (eye, v1, v3), Top (eye, v0, v1), Bottom (eye, v3, v2)
 // The uint products tileId * BLOCK_SIZE are converted to float exactly (< 2^24). z = -1 is the
 // article's "far plane" for a right-handed system; under the demo's GL-form projection it is the
-// near plane (view z = -n, ERRATA #1); only the ray direction matters.
-// cornerDepthNdc: the screen z of the corners, -1 as the demo writes it. Under a D3D
-// (perspectiveRH_ZO) projection NDC z = -1 lies behind the near plane at view z = -nf/(2f - n),
-// where the inverse projection's w is a difference of two numbers near 1 that cancels to 0 once
-// n/f < 2^-24 (near 1e-21: every corner at infinity, ERRATA #32); forward-plus passes 0 there,
-// the ZO near plane, which stays finite.
+// near plane (view z = -n, ERRATA #1); under the D3D form it lies between the eye and the near
+// plane (view z = -n f / (2 f - n)); only the ray direction matters. With near 1e-21 the corners
+// lie ~1e-21 from the eye and the planes rely on cullmath::unitCross's rescue.
 inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
-                                const glm::mat4& inverseProjection, float cornerDepthNdc = -1.0f) {
+                                const glm::mat4& inverseProjection) {
     const auto corner = [&](std::uint32_t tx, std::uint32_t ty) {
-        const glm::vec4 posScreen(static_cast<float>(tx * blockSizePx), static_cast<float>(ty * blockSizePx), cornerDepthNdc, 1.0f);
+        const glm::vec4 posScreen(static_cast<float>(tx * blockSizePx), static_cast<float>(ty * blockSizePx), -1.0f, 1.0f);
         return glm::vec3(screenToView(posScreen, screenDimensions, inverseProjection));
     };
     const glm::vec3 eyePos(0.0f);
@@ -63,7 +60,8 @@ inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, co
 // through the eye are not the tile's sides (forward-plus culled lights that reached 489 of 3072
 // pixels of the extremes catalogue's orthographic room). Each side plane passes through the tile
 // corner a on the near plane and the corners a, b on the far plane, NDC z = nearNdc and farNdc
-// (the projection's depth range), same corner order and normal direction as gridFrustum3dgep.
+// (orthographic cameras take the D3D form, 0 and 1, under either projection option), same
+// corner order and normal direction as gridFrustum3dgep.
 inline Frustum gridFrustumOrthographic(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
                                        const glm::mat4& inverseProjection, float nearNdc, float farNdc) {
     const auto corner = [&](std::uint32_t tx, std::uint32_t ty, float zNdc) {
