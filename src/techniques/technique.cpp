@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -97,6 +98,7 @@ FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueCont
     const std::vector<Light>& all = context.lights();
     const std::size_t lights1 = std::min<std::size_t>(all.size(), 32), lights2 = std::min<std::size_t>(all.size(), 64);
     constexpr std::uint32_t kProbeHeight = 64, kProbeWidth1 = 64, kProbeWidth2 = 128;  // px, multiples of every tile size
+    std::map<std::string, double> rowSlack;  // buffer name -> one row of it, bytes
     const auto total = [&](std::uint32_t width, std::size_t lightCount) {
         TechniqueContext probe = context;
         const std::vector<Light> prefix(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(lightCount));
@@ -109,6 +111,13 @@ FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueCont
         probe.afterLightStep = {};
         BufferRegistry registry;
         buildTechnique(id, probe, sceneFile).run(registry);
+        // Structured buffers are stored in rows of kMaxSurfaceDimension elements, so a long one
+        // grows in whole rows: allow one more row for each (forward-plus's light index lists).
+        for (const std::string& name : registry.names()) {
+            const Surface& s = *registry.find(name);
+            if (s.height() == 1 || s.width() == kMaxSurfaceDimension)
+                rowSlack[name] = double(kMaxSurfaceDimension) * s.bytesPerTexel() * s.sampleCount();
+        }
         return double(registry.bytes());
     };
     const double p1 = double(kProbeWidth1) * kProbeHeight, p2 = double(kProbeWidth2) * kProbeHeight;
@@ -126,6 +135,9 @@ FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueCont
     FrameMemoryEstimate e;
     e.bytesPerPixel = std::max(0.0, b + d * lightCount);
     e.fixedBytes = std::max(0.0, a + c * lightCount);
+    double slack = 0.0;
+    for (const auto& [name, bytes] : rowSlack) slack += bytes;
+    e.fixedBytes += slack;
     e.bytes = std::max(b11, e.fixedBytes + e.bytesPerPixel * pixels);
     return e;
 }

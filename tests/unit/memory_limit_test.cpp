@@ -47,7 +47,7 @@ TEST_CASE("memory: estimateFrameMemory predicts each technique's buffer bytes") 
     for (const TechniqueInfo& info : techniques()) {
         if (!info.build) continue;
         for (const std::uint32_t samples : {1u, 4u}) {
-            if (samples > 1 && !info.msaa) continue;
+            if (samples > 1 && (!info.msaa || info.id == std::string_view("preview"))) continue;
             CAPTURE(info.id);
             CAPTURE(samples);
             Device device(DeviceConfig{32, 2});
@@ -55,8 +55,8 @@ TEST_CASE("memory: estimateFrameMemory predicts each technique's buffer bytes") 
             ctx.device = &device;
             ctx.resources = &resources;
             ctx.camera = t.camera;
-            ctx.width = 320;
-            ctx.height = 192;
+            ctx.width = 192;  // px: not a probe size, 3 x 2 probes of 64 x 64
+            ctx.height = 128;
             ctx.sampleCount = samples;
             ctx.sceneFile = "memory.json";
             const FrameMemoryEstimate e = estimateFrameMemory(info.id, ctx, ctx.sceneFile);
@@ -64,10 +64,11 @@ TEST_CASE("memory: estimateFrameMemory predicts each technique's buffer bytes") 
             buildTechnique(info.id, ctx, ctx.sceneFile).run(registry);
             const double actual = double(registry.bytes());
             MESSAGE(info.id << " x" << samples << ": estimate " << e.bytes << " B, actual " << actual << " B");
-            // Tile light lists depend on where the lights fall in the probes' tiles: the fit may
-            // overshoot (forward-plus-amd by 4.8% here) but must not fall more than 2% short.
-            CHECK(e.bytes >= 0.98 * actual);
-            CHECK(e.bytes <= 1.10 * actual);
+            // Never short; over by at most 10% (tile light lists depend on where the lights fall
+            // in the probes' tiles) plus the spare rows of 16384 x 4 B given to each structured
+            // buffer (at most 4 per technique here: 256 KiB).
+            CHECK(e.bytes >= actual);
+            CHECK(e.bytes <= 1.10 * actual + 4.0 * 65536.0);
         }
     }
 }

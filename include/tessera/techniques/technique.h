@@ -89,7 +89,8 @@ inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
 // Buffers grow with pixels (targets, per-tile lists, shadow jobs), with lights (light arrays,
 // unbounded lists) and with both, so the estimate is the bilinear fit
 // a + b P + c L + d P L through the four totals, evaluated at the frame's P = width x height.
-// Transient memory inside passes (scratch lists, per-thread tiles) is not included.
+// Structured buffers, stored in rows of 16384 elements, get one more row each (they grow in whole
+// rows). Transient memory inside passes (scratch lists, per-thread tiles) is not included.
 struct FrameMemoryEstimate {
     double bytes = 0.0;            // the estimate for the frame
     double bytesPerPixel = 0.0;    // b + d L: what each pixel adds
