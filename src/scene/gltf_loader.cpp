@@ -1529,24 +1529,19 @@ private:
 };
 
 // The JSON text of a .gltf, or of a .glb's first chunk (§4.4.3: 12-byte header, then chunk
-// length, type "JSON" and the text). Empty when it cannot be read.
-std::string gltfJsonText(const fs::path& file, bool binary) {
-    std::ifstream in(file, std::ios::binary);
-    if (!binary) return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::array<char, 20> header{};
-    if (!in.read(header.data(), header.size()) || std::memcmp(header.data() + 16, "JSON", 4) != 0) return {};
+// length, type "JSON" and the text). Empty when the chunk is not there.
+std::string gltfJsonText(std::string_view bytes, bool binary) {
+    if (!binary) return std::string(bytes);
+    if (bytes.size() < 20 || bytes.substr(16, 4) != "JSON") return {};
     std::uint32_t length;
-    std::memcpy(&length, header.data() + 12, 4);
-    std::error_code ec;
-    const auto fileSize = fs::file_size(file, ec);
-    if (ec || length > fileSize - 20) return {};
-    std::string text(length, '\0');
-    return in.read(text.data(), std::streamsize(length)) ? text : std::string();
+    std::memcpy(&length, bytes.data() + 12, 4);
+    if (length > bytes.size() - 20) return {};
+    return std::string(bytes.substr(20, length));
 }
 
 // tinygltf's error text on one line; for a missing external buffer ("File not found : X"),
 // the JSON path of the buffer whose uri names it.
-std::pair<std::string, std::string> describeParseError(std::string err, const fs::path& file, bool binary) {
+std::pair<std::string, std::string> describeParseError(std::string err, const std::string& jsonText, const fs::path& baseDir) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     std::string keyPath, what = err;
     const std::string notFound = "File not found : ";
@@ -1554,14 +1549,14 @@ std::pair<std::string, std::string> describeParseError(std::string err, const fs
     if (at != std::string::npos) {
         const std::size_t begin = at + notFound.size();
         const std::string missing = err.substr(begin, err.find('\n', begin) - begin);
-        const nlohmann::json doc = nlohmann::json::parse(gltfJsonText(file, binary), nullptr, false);
+        const nlohmann::json doc = nlohmann::json::parse(jsonText, nullptr, false);
         if (doc.is_object() && doc.contains("buffers") && doc["buffers"].is_array()) {
             for (std::size_t i = 0; i < doc["buffers"].size(); ++i) {
                 const nlohmann::json& buffer = doc["buffers"][i];
                 if (buffer.is_object() && buffer.contains("uri") && buffer["uri"].is_string() &&
                     percentDecoded(buffer["uri"].get<std::string>()) == missing) {
                     keyPath = indexPath("/buffers", i) + "/uri";
-                    what = "cannot read the buffer file '" + (file.parent_path() / missing).string() + "'";
+                    what = "cannot read the buffer file '" + (baseDir / missing).string() + "'";
                     break;
                 }
             }
@@ -1571,21 +1566,17 @@ std::pair<std::string, std::string> describeParseError(std::string err, const fs
     return {keyPath, what.empty() ? std::string("tinygltf reported an error without a message") : what};
 }
 
-} // namespace
-
-void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options) {
-    const std::string fileName = file.string();
-    std::ifstream probe(file, std::ios::binary);
-    std::error_code ec;
-    if (!probe || !fs::is_regular_file(file, ec)) throw inputError(fileName, "", "cannot open the file");
-    std::array<char, 4> magic{};
-    probe.read(magic.data(), 4);
-    const bool binary = probe.gcount() == 4 && std::memcmp(magic.data(), "glTF", 4) == 0;  // GLB header (§4.4.2)
-    probe.close();
+// Both entry points: the bytes of a .gltf or .glb, `fileName` for messages, `baseDir` for
+// external uris.
+void loadGltfBytes(std::string_view bytes, const std::string& fileName, const fs::path& baseDir, Scene& scene,
+                   const GltfLoadOptions& options) {
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        throw inputError(fileName, "", "the file is larger than 4 GiB");  // tinygltf takes an unsigned int size
+    const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";  // GLB header (§4.4.2)
 
     // JSON syntax and types first (tinygltf would default mistyped values silently).
+    const std::string jsonText = gltfJsonText(bytes, binary);
     {
-        const std::string jsonText = gltfJsonText(file, binary);
         // Before any parse: tinygltf's JSON parse recurses once per nesting level.
         checkJsonDepth(jsonText, fileName);
         if (!jsonText.empty() || !binary) {
@@ -1605,18 +1596,21 @@ void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options
     parser.SetImageLoader(&loadImageData, &imageState);
     tinygltf::Model model;
     std::string err, warnText;
-    const bool parsed = binary ? parser.LoadBinaryFromFile(&model, &err, &warnText, fileName)
-                               : parser.LoadASCIIFromFile(&model, &err, &warnText, fileName);
+    const auto size = static_cast<unsigned int>(bytes.size());
+    const bool parsed =
+        binary ? parser.LoadBinaryFromMemory(&model, &err, &warnText, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                             size, baseDir.string())
+               : parser.LoadASCIIFromString(&model, &err, &warnText, bytes.data(), size, baseDir.string());
     if (!imageState.errors.empty()) {
         const auto& [index, what] = imageState.errors.front();
         throw inputError(fileName, "/images/" + std::to_string(index), what);
     }
     if (!parsed) {
-        const auto [keyPath, what] = describeParseError(err, file, binary);
+        const auto [keyPath, what] = describeParseError(err, jsonText, baseDir);
         throw inputError(fileName, keyPath, what);
     }
 
-    GltfReader reader(fileName, file.parent_path(), model, options, scene);
+    GltfReader reader(fileName, baseDir, model, options, scene);
     std::string line;
     for (char c : warnText + "\n") {
         if (c != '\n') { line += c; continue; }
@@ -1643,6 +1637,23 @@ void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options
         if (options.warnings) options.warnings->push_back(warning);
         else std::fprintf(stderr, "tessera: warning: %s\n", warning.c_str());
     }
+}
+
+} // namespace
+
+void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options) {
+    const std::string fileName = file.string();
+    std::ifstream in(file, std::ios::binary);
+    std::error_code ec;
+    if (!in || !fs::is_regular_file(file, ec)) throw inputError(fileName, "", "cannot open the file");
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw inputError(fileName, "", "read error");
+    loadGltfBytes(bytes, fileName, file.parent_path(), scene, options);
+}
+
+void loadGltfFromMemory(std::string_view bytes, const std::string& name, const fs::path& baseDir, Scene& scene,
+                        const GltfLoadOptions& options) {
+    loadGltfBytes(bytes, name, baseDir, scene, options);
 }
 
 } // namespace tessera
