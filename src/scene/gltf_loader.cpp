@@ -198,6 +198,25 @@ std::string imageExtension(const unsigned char* bytes, std::size_t size, const s
     return extension;
 }
 
+// A PNG's chunk sequence (PNG 1.2 §5.3: 4-byte big-endian length, type, data, CRC) walked up to
+// IEND without reading its contents. OpenImageIO 2.4's PNG reader leaks its error message when
+// libpng asks for bytes past the end (its read callback formats the error, then libpng's
+// longjmp skips the string's destructor), so data that ends early is refused before it gets
+// there. Returns an empty string when every chunk up to IEND is within `size` bytes.
+std::string pngTruncation(const unsigned char* bytes, std::size_t size) {
+    std::size_t at = 8;  // after the signature
+    while (true) {
+        if (size - at < 12) return "the PNG data ends inside a chunk header (at byte " + std::to_string(at) + " of " + std::to_string(size) + ")";
+        const std::uint32_t length = (std::uint32_t(bytes[at]) << 24) | (std::uint32_t(bytes[at + 1]) << 16) |
+                                     (std::uint32_t(bytes[at + 2]) << 8) | std::uint32_t(bytes[at + 3]);
+        if (length > size - at - 12)
+            return "the PNG data ends inside a chunk (a " + std::to_string(length) + "-byte chunk at byte " +
+                   std::to_string(at) + " of " + std::to_string(size) + ")";
+        if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) return {};
+        at += 12 + std::size_t(length);
+    }
+}
+
 // Decodes an image held in memory into RGBA8 (grey, grey+alpha and RGB expanded as Image
 // documents; 16-bit and float channels converted by OIIO to UINT8). headerOnly: only the size.
 // Returns an empty string on success, else what went wrong.
@@ -206,6 +225,10 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
     if (size == 0) return "the image data is empty";
     const std::string extension = imageExtension(bytes, size, mimeType, uri);
     if (extension.empty()) return "unknown image format (mimeType '" + mimeType + "')";
+    if (extension == ".png") {
+        if (size < 8 || std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) != 0) return "the data is not a PNG (no PNG signature)";
+        if (std::string problem = pngTruncation(bytes, size); !problem.empty()) return problem;
+    }
 #ifdef TESSERA_NO_OIIO
     // Benchmark builds without OpenImageIO (TESSERA_WITH_OIIO=OFF): stb_image, which expands
     // grey / grey+alpha / RGB to RGBA the same way. PNG texels are identical; JPEG may differ.
