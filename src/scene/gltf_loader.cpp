@@ -1606,7 +1606,8 @@ void loadGltfBytes(std::string_view bytes, const std::string& fileName, const fs
             nlohmann::json document;
             try {
                 document = nlohmann::json::parse(jsonText);
-            } catch (const nlohmann::json::parse_error& e) {
+            } catch (const nlohmann::json::exception& e) {
+                // parse_error, and out_of_range 406 for a number beyond double ("1e999").
                 throw inputError(fileName, "", std::string("invalid JSON: ") + e.what());
             }
             JsonShapeChecker(fileName).check(document);
