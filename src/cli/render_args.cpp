@@ -28,6 +28,16 @@ std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
     const std::size_t eq = text.find('=');
     if (eq == std::string_view::npos || eq == 0)
         throw UsageError("--option: '" + std::string(text) + "' is not KEY=VALUE (see tessera options)");
+    // The key and value end up in JSON (the technique's options, messages, the dump's manifest),
+    // whose dump() throws on bytes that are not UTF-8: such an argument is refused here.
+    try {
+        (void)nlohmann::json(std::string(text)).dump();
+    } catch (const nlohmann::json::type_error& e) {
+        std::string why = e.what();
+        const std::size_t bracket = why.find("] ");
+        if (bracket != std::string::npos) why = why.substr(bracket + 2);
+        throw UsageError("--option: the argument is not valid UTF-8 (" + why + ")");
+    }
     const std::string key(text.substr(0, eq)), valueText(text.substr(eq + 1));
     nlohmann::json value = nlohmann::json::parse(valueText, nullptr, false);
     if (value.is_discarded()) value = valueText;
