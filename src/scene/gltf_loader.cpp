@@ -43,6 +43,13 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t MAX_ACCESSOR_ELEMENTS = std::uint64_t(1) << 28;
+// The accessor data one file may decode, in bytes of 32-bit values: 256 MiB plus 256 bytes per
+// byte of its buffers. Data decoded from a buffer is at most 4 bytes per byte, but an accessor
+// without a bufferView (zeros plus sparse values) is as large as its count says, and every
+// primitive that uses an accessor decodes it again: without a budget, a 400-byte file asked for
+// 3 GiB. Real files stay far below (256x covers one vertex buffer shared by 64 primitives).
+constexpr std::uint64_t DECODE_BUDGET_BASE = std::uint64_t(256) << 20;
+constexpr std::uint64_t DECODE_BUDGET_PER_BUFFER_BYTE = 256;
 constexpr int MAX_IMAGE_EXTENT = 16384;  // Image: 1..16384 texels per axis
 constexpr double PI = 3.14159265358979323846;
 
@@ -199,22 +206,46 @@ std::string imageExtension(const unsigned char* bytes, std::size_t size, const s
 }
 
 // A PNG's chunk sequence (PNG 1.2 §5.3: 4-byte big-endian length, type, data, CRC) walked up to
-// IEND without reading its contents. OpenImageIO 2.4's PNG reader leaks its error message when
-// libpng asks for bytes past the end (its read callback formats the error, then libpng's
-// longjmp skips the string's destructor), so data that ends early is refused before it gets
-// there. Returns an empty string when every chunk up to IEND is within `size` bytes.
-std::string pngTruncation(const unsigned char* bytes, std::size_t size) {
+// IEND without decoding anything, before OpenImageIO sees the data:
+// - data that ends inside a chunk is refused: OpenImageIO 2.4's PNG reader leaks its error
+//   message when libpng asks for bytes past the end (its read callback formats the error, then
+//   libpng's longjmp skips the string's destructor);
+// - an image whose IDAT bytes cannot hold its IHDR size is refused: the decoder allocates the
+//   whole image from the header before inflating, so a 100-byte PNG claiming 16384 x 16384
+//   texels cost 1 GiB. Deflate expands at most 1032:1 (RFC 1951: a 258-byte match per 2 bits),
+//   so a real PNG never fails this test.
+// Returns an empty string when the data passes.
+std::string pngProblem(const unsigned char* bytes, std::size_t size) {
+    auto be32 = [&](std::size_t at) {
+        return (std::uint32_t(bytes[at]) << 24) | (std::uint32_t(bytes[at + 1]) << 16) | (std::uint32_t(bytes[at + 2]) << 8) |
+               std::uint32_t(bytes[at + 3]);
+    };
+    std::uint64_t pixelBits = 0, idatBytes = 0;  // from IHDR: width x height x bits per texel
     std::size_t at = 8;  // after the signature
     while (true) {
         if (size - at < 12) return "the PNG data ends inside a chunk header (at byte " + std::to_string(at) + " of " + std::to_string(size) + ")";
-        const std::uint32_t length = (std::uint32_t(bytes[at]) << 24) | (std::uint32_t(bytes[at + 1]) << 16) |
-                                     (std::uint32_t(bytes[at + 2]) << 8) | std::uint32_t(bytes[at + 3]);
+        const std::uint32_t length = be32(at);
         if (length > size - at - 12)
             return "the PNG data ends inside a chunk (a " + std::to_string(length) + "-byte chunk at byte " +
                    std::to_string(at) + " of " + std::to_string(size) + ")";
-        if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) return {};
+        const unsigned char* type = bytes + at + 4;
+        if (std::memcmp(type, "IHDR", 4) == 0 && length >= 13) {
+            const unsigned char* ihdr = bytes + at + 8;
+            const std::uint64_t width = be32(at + 8), height = be32(at + 12), bitDepth = ihdr[8];
+            const std::uint64_t channels = ihdr[9] == 2 ? 3 : ihdr[9] == 4 ? 2 : ihdr[9] == 6 ? 4 : 1;  // grey, palette: 1
+            // Sizes outside 1..16384 are left to the size check after OpenImageIO reads the header.
+            if (width <= std::uint64_t(MAX_IMAGE_EXTENT) && height <= std::uint64_t(MAX_IMAGE_EXTENT))
+                pixelBits = width * height * channels * bitDepth;
+        }
+        if (std::memcmp(type, "IDAT", 4) == 0) idatBytes += length;
+        if (std::memcmp(type, "IEND", 4) == 0) break;
         at += 12 + std::size_t(length);
     }
+    constexpr std::uint64_t kMaxDeflateRatio = 1032;
+    if (pixelBits / 8 > kMaxDeflateRatio * idatBytes + 1024)
+        return "the PNG's " + std::to_string(idatBytes) + " bytes of image data cannot hold the " + std::to_string(pixelBits / 8) +
+               " bytes its header announces (deflate expands at most 1032:1)";
+    return {};
 }
 
 // Decodes an image held in memory into RGBA8 (grey, grey+alpha and RGB expanded as Image
@@ -227,7 +258,7 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
     if (extension.empty()) return "unknown image format (mimeType '" + mimeType + "')";
     if (extension == ".png") {
         if (size < 8 || std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) != 0) return "the data is not a PNG (no PNG signature)";
-        if (std::string problem = pngTruncation(bytes, size); !problem.empty()) return problem;
+        if (std::string problem = pngProblem(bytes, size); !problem.empty()) return problem;
     }
 #ifdef TESSERA_NO_OIIO
     // Benchmark builds without OpenImageIO (TESSERA_WITH_OIIO=OFF): stb_image, which expands
@@ -722,7 +753,10 @@ public:
                const Scene& target)
         : mFile(std::move(file)), mFolder(std::move(folder)), mModel(model), mOptions(options),
           mMeshBase(int(target.meshes.size())), mMaterialBase(int(target.materials.size())),
-          mImageBase(int(target.images.size())), mTextureBase(int(target.textures.size())) {}
+          mImageBase(int(target.images.size())), mTextureBase(int(target.textures.size())) {
+        mDecodeBudget = DECODE_BUDGET_BASE;
+        for (const tinygltf::Buffer& buffer : mModel.buffers) mDecodeBudget += DECODE_BUDGET_PER_BUFFER_BYTE * buffer.data.size();
+    }
 
     void read() {
         checkExtensions();
@@ -878,8 +912,21 @@ private:
     }
 
     // Reads a float-decoded attribute: components floats per element.
+    // Counts `values` 32-bit values against the file's decode budget before they are allocated.
+    void chargeDecode(std::size_t values, int index) const {
+        const std::uint64_t bytes = std::uint64_t(values) * 4;
+        if (bytes > mDecodeBudget - mDecoded) {
+            fail(indexPath("/accessors", std::size_t(index)) + "/count",
+                 "decoding " + std::to_string(values) + " values would take the file's decoded accessor data past " +
+                     std::to_string(mDecodeBudget >> 20) + " MiB (256 MiB + 256 bytes per buffer byte; " +
+                     std::to_string(mDecoded >> 20) + " MiB decoded so far)");
+        }
+        mDecoded += bytes;
+    }
+
     std::vector<float> readFloats(int index, const std::string& referencedAt) const {
         const AccessorLayout layout = layoutOf(index, referencedAt);
+        chargeDecode(layout.count * layout.components, index);
         std::vector<float> out(layout.count * layout.components, 0.0f);
         auto decodeElement = [&](std::size_t element, const unsigned char* bytes) {
             for (std::size_t c = 0; c < layout.components; ++c) {
@@ -907,6 +954,7 @@ private:
                            " (used by " + referencedAt + ")");
         }
         const AccessorLayout layout = layoutOf(index, referencedAt);
+        chargeDecode(layout.count, index);
         std::vector<std::uint32_t> out(layout.count, 0);
         auto decodeElement = [&](std::size_t element, const unsigned char* bytes) {
             out[element] = decodeIndex(bytes, layout.componentType);
@@ -1548,6 +1596,8 @@ private:
     const GltfLoadOptions& mOptions;
     int mMeshBase, mMaterialBase, mImageBase, mTextureBase;
     bool mQuantization = false;
+    std::uint64_t mDecodeBudget = 0;     // bytes (DECODE_BUDGET_BASE + per buffer byte)
+    mutable std::uint64_t mDecoded = 0;  // bytes charged so far
     bool mSkinWarned = false;
 };
 
