@@ -265,7 +265,9 @@ std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, c
     dumpRegistry(registry, o.dumpDir, o, true, written, buffers);
     manifest["buffers"] = buffers;
     manifest["image"] = o.out;
-    const std::string text = manifest.dump(2) + "\n";
+    // Paths and the command line are bytes, not necessarily UTF-8: those bytes become U+FFFD in
+    // the manifest (a plain dump() throws on them, after every image was written).
+    const std::string text = manifest.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     const fs::path manifestFile = fs::path(o.dumpDir) / "manifest.json";
     tessera::writeFileAtomically(manifestFile, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
     written.push_back({manifestFile.string(), tessera::fnv1a64(std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()))});
