@@ -94,7 +94,8 @@ options:
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
   --precision MODE  reference, exact or fast (default: the scene file's, else exact)
-  --lights N        light count of every generator in the scene file, 0..1000000
+  --lights N        light count of every generator in the scene file, 0..1000000 (all of them
+                    together at most 1000000)
   --threads N       worker threads, 0 = all cores (default 0)
   --tile T          tile size in px, even, 8..1024 (default 64)
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
