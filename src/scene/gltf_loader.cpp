@@ -1612,6 +1612,24 @@ std::string gltfJsonText(std::string_view bytes, bool binary) {
     return std::string(bytes.substr(20, length));
 }
 
+// A .glb whose BIN chunk (§4.4.3.3: length, type "BIN", data) runs past the header's total
+// length: tinygltf 2.7.0 checks the chunk's data length against the length without its 8-byte
+// chunk header, and then copies up to 8 bytes past the end of the data. Empty when the chunk
+// fits (other malformed layouts are left to tinygltf, which refuses them).
+std::string glbBinChunkOverrun(std::string_view bytes) {
+    if (bytes.size() < 20) return {};
+    std::uint32_t length, jsonLength;
+    std::memcpy(&length, bytes.data() + 8, 4);
+    std::memcpy(&jsonLength, bytes.data() + 12, 4);
+    const std::uint64_t binAt = 20 + std::uint64_t(jsonLength);  // the BIN chunk header
+    if (length > bytes.size() || binAt + 8 > length) return {};
+    std::uint32_t binLength;
+    std::memcpy(&binLength, bytes.data() + binAt, 4);
+    if (binAt + 8 + binLength <= length) return {};
+    return "the BIN chunk's " + std::to_string(binLength) + " bytes at byte " + std::to_string(binAt + 8) +
+           " run past the GLB's length of " + std::to_string(length) + " bytes";
+}
+
 // tinygltf's error text on one line; for a missing external buffer ("File not found : X"),
 // the JSON path of the buffer whose uri names it.
 std::pair<std::string, std::string> describeParseError(std::string err, const std::string& jsonText, const fs::path& baseDir) {
@@ -1664,6 +1682,9 @@ void loadGltfBytes(std::string_view bytes, const std::string& fileName, const fs
         }
     }
 
+    if (binary) {
+        if (const std::string problem = glbBinChunkOverrun(bytes); !problem.empty()) throw inputError(fileName, "", problem);
+    }
     tinygltf::TinyGLTF parser;
     ImageLoaderState imageState;
     imageState.loadImages = options.loadImages;
