@@ -2,7 +2,10 @@
 # The whole test suite for a fresh Debian 12 clone (what CI runs): install what is missing, then
 # four passes, each building the library optimised and the tests at -O1 with -Werror:
 #   1. GCC 12, every test;  2. GCC 12 under AddressSanitizer + UBSan, every test (goldens too);
-#   3. clang 14, every test;  4. GCC 12 under ThreadSanitizer, the determinism and compute tests.
+#   3. clang 14, every test, plus the libFuzzer targets (TESSERA_FUZZ=ON: built with ASan + UBSan
+#      around the parsers only, each fuzzed for TESSERA_FUZZ_SECONDS, 60 by default, and its past
+#      crashes replayed; ctest label fuzz);  4. GCC 12 under ThreadSanitizer, the determinism and
+#      compute tests.
 # Golden images are compared, never rewritten here, and golden/ must still match the commit
 # (ctest golden/tree_matches_commit, in every pass).
 # TESSERA_SKIP_SANITIZE=1 / TESSERA_SKIP_CLANG=1 / TESSERA_SKIP_TSAN=1 skip passes (quick local runs).
@@ -12,7 +15,8 @@ if [ -n "${TESSERA_UPDATE_GOLDEN:-}" ]; then
   echo "test.sh: TESSERA_UPDATE_GOLDEN is set; the test suite compares goldens and never rewrites them" >&2
   exit 2
 fi
-TESSERA_DEPS_EXTRA="clang-14" bash scripts/install-deps.sh
+# libclang-rt-14-dev: libFuzzer and the sanitizer runtimes (clang-14 only recommends it).
+TESSERA_DEPS_EXTRA="clang-14 libclang-rt-14-dev" bash scripts/install-deps.sh
 jobs=2   # CI machines have 2 cores
 started=$SECONDS
 stamp() { echo "test.sh: $1 done at $(( (SECONDS - started) / 60 )) min $(( (SECONDS - started) % 60 )) s"; }
@@ -39,7 +43,7 @@ if [ "${TESSERA_SKIP_SANITIZE:-0}" != 1 ]; then
 fi
 
 if [ "${TESSERA_SKIP_CLANG:-0}" != 1 ]; then
-  cmake -S . -B build-clang "${common[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14
+  cmake -S . -B build-clang "${common[@]}" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 -DTESSERA_FUZZ=ON
   cmake --build build-clang -j"$jobs"
   ctest --test-dir build-clang -j"$jobs" --output-on-failure
   stamp "clang 14 pass"

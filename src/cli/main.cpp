@@ -38,6 +38,7 @@
 #include <tessera/techniques/builtin_scene.h>
 #include "diff.h"
 #include "report.h"
+#include "render_args.h"
 #include "scene_args.h"
 #include <tessera/inspect/pixel_history.h>
 #include "progress.h"
@@ -94,7 +95,8 @@ options:
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
   --precision MODE  reference, exact or fast (default: the scene file's, else exact)
-  --lights N        light count of every generator in the scene file, 0..1000000
+  --lights N        light count of every generator in the scene file, 0..1000000 (all of them
+                    together at most 1000000)
   --threads N       worker threads, 0 = all cores (default 0)
   --tile T          tile size in px, even, 8..1024 (default 64)
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
@@ -147,19 +149,10 @@ Loads SCENE without decoding images and prints its triangles, meshes, instances,
 textures, cameras, lights by type, world bounds and an estimate of the memory a render needs.
 )";
 
-using tessera::cli::parseUint;
+using tessera::cli::applyOptionArgs;
+using tessera::cli::parseRenderArgs;
+using tessera::cli::RenderOptions;
 using tessera::cli::UsageError;
-
-// --option KEY=VALUE: VALUE as JSON (true, 32, "x", [..]), else the bare text as a string.
-std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
-    const std::size_t eq = text.find('=');
-    if (eq == std::string_view::npos || eq == 0)
-        throw UsageError("--option: '" + std::string(text) + "' is not KEY=VALUE (see tessera options)");
-    const std::string key(text.substr(0, eq)), valueText(text.substr(eq + 1));
-    nlohmann::json value = nlohmann::json::parse(valueText, nullptr, false);
-    if (value.is_discarded()) value = valueText;
-    return {key, value};
-}
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
@@ -167,150 +160,7 @@ using tessera::cli::bundledScenesDir;
 using tessera::cli::describe;
 using tessera::cli::resolveScene;
 
-struct RenderOptions {
-    std::string scene = "default";
-    std::string technique;
-    std::string out = "tessera.png";
-    std::string dumpDir;
-    std::vector<std::string> dumpAfter;  // pass names
-    std::vector<std::uint32_t> dumpLights;  // light indices
-    float exposure = 1.0f;
-    std::uint32_t viewTileSize = 0;  // the technique's light-grid tile, for the overlay views (0: none)
-    std::optional<std::array<std::uint32_t, 2>> probe;  // --probe X,Y: window px
-    bool probeJson = false;
-    tessera::ExrPixelType exrType = tessera::ExrPixelType::Float;
-    std::uint32_t width = 0, height = 0;  // 0: the scene's
-    std::optional<tessera::Precision> precision;
-    std::optional<std::uint32_t> lights;
-    std::vector<std::pair<std::string, nlohmann::json>> options;  // --option, in command-line order
-    tessera::DeviceConfig device;
-    std::uint32_t msaa = 1;
-    std::uint32_t repeat = 1, warmup = 0;
-    bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false, noDefaultLights = false;
-    tessera::cli::Progress::Mode progress = tessera::cli::Progress::Mode::Auto;
-};
-
 void warn(const std::string& text) { std::fprintf(stderr, "tessera: warning: %s\n", text.c_str()); }
-
-// The --option values checked against the technique's catalogue (techniques/option_catalog.h)
-// and laid over the scene file's options.
-void applyOptionArgs(const RenderOptions& o, const std::string& technique, nlohmann::json& options) {
-    for (const auto& [key, value] : o.options) {
-        const OptionInfo* info = tessera::findOption(technique, key);
-        if (!info) {
-            std::string known;
-            for (const OptionInfo& k : tessera::techniqueOptions(technique)) known += (known.empty() ? "" : ", ") + std::string(k.key);
-            throw UsageError("--option " + key + ": " + technique + " has no option '" + key + "'" +
-                             (known.empty() ? " (it has none)" : " (it has " + known + ")"));
-        }
-        if (const auto problem = tessera::optionValueProblem(*info, value))
-            throw UsageError("--option " + key + "=" + value.dump() + ": " + *problem + " (technique " + technique + ")");
-        if (!options.is_object()) options = nlohmann::json::object();
-        options[key] = value;
-    }
-}
-
-RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& help) {
-    RenderOptions o;
-    bool sceneGiven = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string_view a = args[i];
-        auto value = [&]() -> std::string_view {
-            if (i + 1 >= args.size()) throw UsageError(std::string(a) + " needs a value");
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") help = true;
-        else if (a == "--technique") o.technique = std::string(value());
-        else if (a == "--option") o.options.push_back(parseOptionArg(value()));
-        else if (a == "--out") {
-            o.out = std::string(value());
-            o.outGiven = true;
-        } else if (a == "--no-output") o.noOutput = true;
-        else if (a == "--scalar-raster") o.device.simdBlocks = false;
-        else if (a == "--no-default-lights") o.noDefaultLights = true;
-        else if (a == "--exr") {
-            o.exrTypeGiven = true;
-            const std::string_view t = value();
-            if (t == "half") o.exrType = tessera::ExrPixelType::Half;
-            else if (t == "float") o.exrType = tessera::ExrPixelType::Float;
-            else throw UsageError("--exr: '" + std::string(t) + "' is not half or float");
-        } else if (a == "--width") o.width = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
-        else if (a == "--height") o.height = parseUint(a, value(), 1, tessera::kMaxSurfaceDimension);
-        else if (a == "--precision") {
-            const std::string_view p = value();
-            o.precision = tessera::parsePrecision(p);
-            if (!o.precision) throw UsageError("--precision: '" + std::string(p) + "' is not reference, exact or fast");
-        } else if (a == "--lights") o.lights = parseUint(a, value(), 0, 1000000);
-        else if (a == "--threads") o.device.threads = parseUint(a, value(), 0, 256);
-        else if (a == "--tile") {
-            o.device.tileSize = parseUint(a, value(), 8, 1024);
-            if (o.device.tileSize % 2) throw UsageError("--tile: " + std::to_string(o.device.tileSize) + " is odd; tiles hold whole 2x2 quads");
-        } else if (a == "--msaa") {
-            o.msaa = parseUint(a, value(), 1, 8);
-            if (o.msaa != 1 && o.msaa != 2 && o.msaa != 4 && o.msaa != 8)
-                throw UsageError("--msaa: " + std::to_string(o.msaa) + " is not 1, 2, 4 or 8");
-        } else if (a == "--repeat") o.repeat = parseUint(a, value(), 1, 100000);
-        else if (a == "--warmup") o.warmup = parseUint(a, value(), 0, 100000);
-        else if (a == "--dump") o.dumpDir = std::string(value());
-        else if (a == "--dump-after") {
-            const std::string list(value());
-            for (std::size_t start = 0; start <= list.size();) {
-                const std::size_t comma = std::min(list.find(',', start), list.size());
-                if (comma == start) throw UsageError("--dump-after: '" + list + "' has an empty pass name");
-                o.dumpAfter.push_back(list.substr(start, comma - start));
-                start = comma + 1;
-            }
-        } else if (a == "--dump-lights") {
-            const std::string list(value());
-            for (std::size_t start = 0; start <= list.size();) {
-                const std::size_t comma = std::min(list.find(',', start), list.size());
-                o.dumpLights.push_back(parseUint("--dump-lights", std::string_view(list).substr(start, comma - start), 0, 999999));
-                start = comma + 1;
-            }
-        } else if (a == "--probe") {
-            const std::string text(value());
-            const std::size_t comma = text.find(',');
-            if (comma == std::string::npos) throw UsageError("--probe: '" + text + "' is not X,Y (window pixels)");
-            o.probe = std::array<std::uint32_t, 2>{parseUint("--probe", std::string_view(text).substr(0, comma), 0, tessera::kMaxSurfaceDimension - 1),
-                                                   parseUint("--probe", std::string_view(text).substr(comma + 1), 0, tessera::kMaxSurfaceDimension - 1)};
-        } else if (a == "--json") {
-            o.probeJson = true;
-        } else if (a == "--exposure") {
-            const std::string text(value());
-            char* end = nullptr;
-            o.exposure = std::strtof(text.c_str(), &end);
-            if (end != text.c_str() + text.size() || !(o.exposure > 0.0f) || !std::isfinite(o.exposure))
-                throw UsageError("--exposure: '" + text + "' is not a positive number");
-        }
-        else if (a == "--stats") o.stats = true;
-        else if (a == "--quiet") o.quiet = true;
-        else if (a == "--progress") o.progress = tessera::cli::Progress::Mode::On;
-        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera render --help)");
-        else if (sceneGiven) throw UsageError("one scene only: '" + o.scene + "' and '" + std::string(a) + "'");
-        else {
-            o.scene = std::string(a);
-            sceneGiven = true;
-        }
-    }
-    if (o.quiet) o.progress = tessera::cli::Progress::Mode::Off;
-    if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
-    if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
-    if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
-    if (!o.dumpLights.empty() && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
-    if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
-    if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
-    const std::string ext = fs::path(o.out).extension().string();
-    if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
-    if (!o.options.empty() && o.scene == "builtin")
-        throw UsageError("--option: the builtin scene has no technique options (render a scene file to use them)");
-    if (o.exrTypeGiven && ext != ".exr") warn("--exr: the output '" + o.out + "' is not .exr; the flag changes nothing");
-    if (o.scene == "builtin") {
-        if (!o.technique.empty()) warn("--technique: the builtin scene draws with its own shading; the flag changes nothing");
-        if (o.lights) warn("--lights: the builtin scene has no light generators; the flag changes nothing");
-    }
-    return o;
-}
-
 
 // Output paths checked before anything loads or renders: --out's folder exists and is writable,
 // --dump is a folder (or can become one). A render that would fail at its end fails now.
@@ -417,7 +267,9 @@ std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, c
     dumpRegistry(registry, o.dumpDir, o, true, written, buffers);
     manifest["buffers"] = buffers;
     manifest["image"] = o.out;
-    const std::string text = manifest.dump(2) + "\n";
+    // Paths and the command line are bytes, not necessarily UTF-8: those bytes become U+FFFD in
+    // the manifest (a plain dump() throws on them, after every image was written).
+    const std::string text = manifest.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     const fs::path manifestFile = fs::path(o.dumpDir) / "manifest.json";
     tessera::writeFileAtomically(manifestFile, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
     written.push_back({manifestFile.string(), tessera::fnv1a64(std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()))});

@@ -1,7 +1,6 @@
-// Shared command arguments (scene_args.h): bounded integers, bundled names, scene and glTF files.
+// Shared scene arguments (scene_args.h): bundled names, scene and glTF files.
 #include "scene_args.h"
 
-#include <charconv>
 #include <cstdlib>
 #include <system_error>
 
@@ -14,15 +13,6 @@ bool isGltf(const std::filesystem::path& p) {
     return ext == ".gltf" || ext == ".glb";
 }
 } // namespace
-
-std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint32_t lo, std::uint32_t hi) {
-    std::uint64_t v = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || end != text.data() + text.size() || v < lo || v > hi)
-        throw UsageError(std::string(flag) + ": '" + std::string(text) + "' is not an integer in " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
-    return std::uint32_t(v);
-}
 
 // Where bundled scenes live: $TESSERA_SCENES, else <prefix>/share/tessera/scenes beside an
 // installed binary, else the source tree's scenes/ folder this binary was built from.

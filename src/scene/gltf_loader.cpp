@@ -43,6 +43,13 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t MAX_ACCESSOR_ELEMENTS = std::uint64_t(1) << 28;
+// The accessor data one file may decode, in bytes of 32-bit values: 256 MiB plus 256 bytes per
+// byte of its buffers. Data decoded from a buffer is at most 4 bytes per byte, but an accessor
+// without a bufferView (zeros plus sparse values) is as large as its count says, and every
+// primitive that uses an accessor decodes it again: without a budget, a 400-byte file asked for
+// 3 GiB. Real files stay far below (256x covers one vertex buffer shared by 64 primitives).
+constexpr std::uint64_t DECODE_BUDGET_BASE = std::uint64_t(256) << 20;
+constexpr std::uint64_t DECODE_BUDGET_PER_BUFFER_BYTE = 256;
 constexpr int MAX_IMAGE_EXTENT = 16384;  // Image: 1..16384 texels per axis
 constexpr double PI = 3.14159265358979323846;
 
@@ -198,6 +205,49 @@ std::string imageExtension(const unsigned char* bytes, std::size_t size, const s
     return extension;
 }
 
+// A PNG's chunk sequence (PNG 1.2 §5.3: 4-byte big-endian length, type, data, CRC) walked up to
+// IEND without decoding anything, before OpenImageIO sees the data:
+// - data that ends inside a chunk is refused: OpenImageIO 2.4's PNG reader leaks its error
+//   message when libpng asks for bytes past the end (its read callback formats the error, then
+//   libpng's longjmp skips the string's destructor);
+// - an image whose IDAT bytes cannot hold its IHDR size is refused: the decoder allocates the
+//   whole image from the header before inflating, so a 100-byte PNG claiming 16384 x 16384
+//   texels cost 1 GiB. Deflate expands at most 1032:1 (RFC 1951: a 258-byte match per 2 bits),
+//   so a real PNG never fails this test.
+// Returns an empty string when the data passes.
+std::string pngProblem(const unsigned char* bytes, std::size_t size) {
+    auto be32 = [&](std::size_t at) {
+        return (std::uint32_t(bytes[at]) << 24) | (std::uint32_t(bytes[at + 1]) << 16) | (std::uint32_t(bytes[at + 2]) << 8) |
+               std::uint32_t(bytes[at + 3]);
+    };
+    std::uint64_t pixelBits = 0, idatBytes = 0;  // from IHDR: width x height x bits per texel
+    std::size_t at = 8;  // after the signature
+    while (true) {
+        if (size - at < 12) return "the PNG data ends inside a chunk header (at byte " + std::to_string(at) + " of " + std::to_string(size) + ")";
+        const std::uint32_t length = be32(at);
+        if (length > size - at - 12)
+            return "the PNG data ends inside a chunk (a " + std::to_string(length) + "-byte chunk at byte " +
+                   std::to_string(at) + " of " + std::to_string(size) + ")";
+        const unsigned char* type = bytes + at + 4;
+        if (std::memcmp(type, "IHDR", 4) == 0 && length >= 13) {
+            const unsigned char* ihdr = bytes + at + 8;
+            const std::uint64_t width = be32(at + 8), height = be32(at + 12), bitDepth = ihdr[8];
+            const std::uint64_t channels = ihdr[9] == 2 ? 3 : ihdr[9] == 4 ? 2 : ihdr[9] == 6 ? 4 : 1;  // grey, palette: 1
+            // Sizes outside 1..16384 are left to the size check after OpenImageIO reads the header.
+            if (width <= std::uint64_t(MAX_IMAGE_EXTENT) && height <= std::uint64_t(MAX_IMAGE_EXTENT))
+                pixelBits = width * height * channels * bitDepth;
+        }
+        if (std::memcmp(type, "IDAT", 4) == 0) idatBytes += length;
+        if (std::memcmp(type, "IEND", 4) == 0) break;
+        at += 12 + std::size_t(length);
+    }
+    constexpr std::uint64_t kMaxDeflateRatio = 1032;
+    if (pixelBits / 8 > kMaxDeflateRatio * idatBytes + 1024)
+        return "the PNG's " + std::to_string(idatBytes) + " bytes of image data cannot hold the " + std::to_string(pixelBits / 8) +
+               " bytes its header announces (deflate expands at most 1032:1)";
+    return {};
+}
+
 // Decodes an image held in memory into RGBA8 (grey, grey+alpha and RGB expanded as Image
 // documents; 16-bit and float channels converted by OIIO to UINT8). headerOnly: only the size.
 // Returns an empty string on success, else what went wrong.
@@ -206,6 +256,10 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
     if (size == 0) return "the image data is empty";
     const std::string extension = imageExtension(bytes, size, mimeType, uri);
     if (extension.empty()) return "unknown image format (mimeType '" + mimeType + "')";
+    if (extension == ".png") {
+        if (size < 8 || std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) != 0) return "the data is not a PNG (no PNG signature)";
+        if (std::string problem = pngProblem(bytes, size); !problem.empty()) return problem;
+    }
 #ifdef TESSERA_NO_OIIO
     // Benchmark builds without OpenImageIO (TESSERA_WITH_OIIO=OFF): stb_image, which expands
     // grey / grey+alpha / RGB to RGBA the same way. PNG texels are identical; JPEG may differ.
@@ -699,7 +753,10 @@ public:
                const Scene& target)
         : mFile(std::move(file)), mFolder(std::move(folder)), mModel(model), mOptions(options),
           mMeshBase(int(target.meshes.size())), mMaterialBase(int(target.materials.size())),
-          mImageBase(int(target.images.size())), mTextureBase(int(target.textures.size())) {}
+          mImageBase(int(target.images.size())), mTextureBase(int(target.textures.size())) {
+        mDecodeBudget = DECODE_BUDGET_BASE;
+        for (const tinygltf::Buffer& buffer : mModel.buffers) mDecodeBudget += DECODE_BUDGET_PER_BUFFER_BYTE * buffer.data.size();
+    }
 
     void read() {
         checkExtensions();
@@ -855,8 +912,21 @@ private:
     }
 
     // Reads a float-decoded attribute: components floats per element.
+    // Counts `values` 32-bit values against the file's decode budget before they are allocated.
+    void chargeDecode(std::size_t values, int index) const {
+        const std::uint64_t bytes = std::uint64_t(values) * 4;
+        if (bytes > mDecodeBudget - mDecoded) {
+            fail(indexPath("/accessors", std::size_t(index)) + "/count",
+                 "decoding " + std::to_string(values) + " values would take the file's decoded accessor data past " +
+                     std::to_string(mDecodeBudget >> 20) + " MiB (256 MiB + 256 bytes per buffer byte; " +
+                     std::to_string(mDecoded >> 20) + " MiB decoded so far)");
+        }
+        mDecoded += bytes;
+    }
+
     std::vector<float> readFloats(int index, const std::string& referencedAt) const {
         const AccessorLayout layout = layoutOf(index, referencedAt);
+        chargeDecode(layout.count * layout.components, index);
         std::vector<float> out(layout.count * layout.components, 0.0f);
         auto decodeElement = [&](std::size_t element, const unsigned char* bytes) {
             for (std::size_t c = 0; c < layout.components; ++c) {
@@ -884,6 +954,7 @@ private:
                            " (used by " + referencedAt + ")");
         }
         const AccessorLayout layout = layoutOf(index, referencedAt);
+        chargeDecode(layout.count, index);
         std::vector<std::uint32_t> out(layout.count, 0);
         auto decodeElement = [&](std::size_t element, const unsigned char* bytes) {
             out[element] = decodeIndex(bytes, layout.componentType);
@@ -1525,28 +1596,43 @@ private:
     const GltfLoadOptions& mOptions;
     int mMeshBase, mMaterialBase, mImageBase, mTextureBase;
     bool mQuantization = false;
+    std::uint64_t mDecodeBudget = 0;     // bytes (DECODE_BUDGET_BASE + per buffer byte)
+    mutable std::uint64_t mDecoded = 0;  // bytes charged so far
     bool mSkinWarned = false;
 };
 
 // The JSON text of a .gltf, or of a .glb's first chunk (§4.4.3: 12-byte header, then chunk
-// length, type "JSON" and the text). Empty when it cannot be read.
-std::string gltfJsonText(const fs::path& file, bool binary) {
-    std::ifstream in(file, std::ios::binary);
-    if (!binary) return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::array<char, 20> header{};
-    if (!in.read(header.data(), header.size()) || std::memcmp(header.data() + 16, "JSON", 4) != 0) return {};
+// length, type "JSON" and the text). Empty when the chunk is not there.
+std::string gltfJsonText(std::string_view bytes, bool binary) {
+    if (!binary) return std::string(bytes);
+    if (bytes.size() < 20 || bytes.substr(16, 4) != "JSON") return {};
     std::uint32_t length;
-    std::memcpy(&length, header.data() + 12, 4);
-    std::error_code ec;
-    const auto fileSize = fs::file_size(file, ec);
-    if (ec || length > fileSize - 20) return {};
-    std::string text(length, '\0');
-    return in.read(text.data(), std::streamsize(length)) ? text : std::string();
+    std::memcpy(&length, bytes.data() + 12, 4);
+    if (length > bytes.size() - 20) return {};
+    return std::string(bytes.substr(20, length));
+}
+
+// A .glb whose BIN chunk (§4.4.3.3: length, type "BIN", data) runs past the header's total
+// length: tinygltf 2.7.0 checks the chunk's data length against the length without its 8-byte
+// chunk header, and then copies up to 8 bytes past the end of the data. Empty when the chunk
+// fits (other malformed layouts are left to tinygltf, which refuses them).
+std::string glbBinChunkOverrun(std::string_view bytes) {
+    if (bytes.size() < 20) return {};
+    std::uint32_t length, jsonLength;
+    std::memcpy(&length, bytes.data() + 8, 4);
+    std::memcpy(&jsonLength, bytes.data() + 12, 4);
+    const std::uint64_t binAt = 20 + std::uint64_t(jsonLength);  // the BIN chunk header
+    if (length > bytes.size() || binAt + 8 > length) return {};
+    std::uint32_t binLength;
+    std::memcpy(&binLength, bytes.data() + binAt, 4);
+    if (binAt + 8 + binLength <= length) return {};
+    return "the BIN chunk's " + std::to_string(binLength) + " bytes at byte " + std::to_string(binAt + 8) +
+           " run past the GLB's length of " + std::to_string(length) + " bytes";
 }
 
 // tinygltf's error text on one line; for a missing external buffer ("File not found : X"),
 // the JSON path of the buffer whose uri names it.
-std::pair<std::string, std::string> describeParseError(std::string err, const fs::path& file, bool binary) {
+std::pair<std::string, std::string> describeParseError(std::string err, const std::string& jsonText, const fs::path& baseDir) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     std::string keyPath, what = err;
     const std::string notFound = "File not found : ";
@@ -1554,14 +1640,14 @@ std::pair<std::string, std::string> describeParseError(std::string err, const fs
     if (at != std::string::npos) {
         const std::size_t begin = at + notFound.size();
         const std::string missing = err.substr(begin, err.find('\n', begin) - begin);
-        const nlohmann::json doc = nlohmann::json::parse(gltfJsonText(file, binary), nullptr, false);
+        const nlohmann::json doc = nlohmann::json::parse(jsonText, nullptr, false);
         if (doc.is_object() && doc.contains("buffers") && doc["buffers"].is_array()) {
             for (std::size_t i = 0; i < doc["buffers"].size(); ++i) {
                 const nlohmann::json& buffer = doc["buffers"][i];
                 if (buffer.is_object() && buffer.contains("uri") && buffer["uri"].is_string() &&
                     percentDecoded(buffer["uri"].get<std::string>()) == missing) {
                     keyPath = indexPath("/buffers", i) + "/uri";
-                    what = "cannot read the buffer file '" + (file.parent_path() / missing).string() + "'";
+                    what = "cannot read the buffer file '" + (baseDir / missing).string() + "'";
                     break;
                 }
             }
@@ -1571,52 +1657,55 @@ std::pair<std::string, std::string> describeParseError(std::string err, const fs
     return {keyPath, what.empty() ? std::string("tinygltf reported an error without a message") : what};
 }
 
-} // namespace
-
-void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options) {
-    const std::string fileName = file.string();
-    std::ifstream probe(file, std::ios::binary);
-    std::error_code ec;
-    if (!probe || !fs::is_regular_file(file, ec)) throw inputError(fileName, "", "cannot open the file");
-    std::array<char, 4> magic{};
-    probe.read(magic.data(), 4);
-    const bool binary = probe.gcount() == 4 && std::memcmp(magic.data(), "glTF", 4) == 0;  // GLB header (§4.4.2)
-    probe.close();
+// Both entry points: the bytes of a .gltf or .glb, `fileName` for messages, `baseDir` for
+// external uris.
+void loadGltfBytes(std::string_view bytes, const std::string& fileName, const fs::path& baseDir, Scene& scene,
+                   const GltfLoadOptions& options) {
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        throw inputError(fileName, "", "the file is larger than 4 GiB");  // tinygltf takes an unsigned int size
+    const bool binary = bytes.size() >= 4 && bytes.substr(0, 4) == "glTF";  // GLB header (§4.4.2)
 
     // JSON syntax and types first (tinygltf would default mistyped values silently).
+    const std::string jsonText = gltfJsonText(bytes, binary);
     {
-        const std::string jsonText = gltfJsonText(file, binary);
         // Before any parse: tinygltf's JSON parse recurses once per nesting level.
         checkJsonDepth(jsonText, fileName);
         if (!jsonText.empty() || !binary) {
             nlohmann::json document;
             try {
                 document = nlohmann::json::parse(jsonText);
-            } catch (const nlohmann::json::parse_error& e) {
+            } catch (const nlohmann::json::exception& e) {
+                // parse_error, and out_of_range 406 for a number beyond double ("1e999").
                 throw inputError(fileName, "", std::string("invalid JSON: ") + e.what());
             }
             JsonShapeChecker(fileName).check(document);
         }
     }
 
+    if (binary) {
+        if (const std::string problem = glbBinChunkOverrun(bytes); !problem.empty()) throw inputError(fileName, "", problem);
+    }
     tinygltf::TinyGLTF parser;
     ImageLoaderState imageState;
     imageState.loadImages = options.loadImages;
     parser.SetImageLoader(&loadImageData, &imageState);
     tinygltf::Model model;
     std::string err, warnText;
-    const bool parsed = binary ? parser.LoadBinaryFromFile(&model, &err, &warnText, fileName)
-                               : parser.LoadASCIIFromFile(&model, &err, &warnText, fileName);
+    const auto size = static_cast<unsigned int>(bytes.size());
+    const bool parsed =
+        binary ? parser.LoadBinaryFromMemory(&model, &err, &warnText, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                             size, baseDir.string())
+               : parser.LoadASCIIFromString(&model, &err, &warnText, bytes.data(), size, baseDir.string());
     if (!imageState.errors.empty()) {
         const auto& [index, what] = imageState.errors.front();
         throw inputError(fileName, "/images/" + std::to_string(index), what);
     }
     if (!parsed) {
-        const auto [keyPath, what] = describeParseError(err, file, binary);
+        const auto [keyPath, what] = describeParseError(err, jsonText, baseDir);
         throw inputError(fileName, keyPath, what);
     }
 
-    GltfReader reader(fileName, file.parent_path(), model, options, scene);
+    GltfReader reader(fileName, baseDir, model, options, scene);
     std::string line;
     for (char c : warnText + "\n") {
         if (c != '\n') { line += c; continue; }
@@ -1643,6 +1732,23 @@ void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options
         if (options.warnings) options.warnings->push_back(warning);
         else std::fprintf(stderr, "tessera: warning: %s\n", warning.c_str());
     }
+}
+
+} // namespace
+
+void loadGltf(const fs::path& file, Scene& scene, const GltfLoadOptions& options) {
+    const std::string fileName = file.string();
+    std::ifstream in(file, std::ios::binary);
+    std::error_code ec;
+    if (!in || !fs::is_regular_file(file, ec)) throw inputError(fileName, "", "cannot open the file");
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw inputError(fileName, "", "read error");
+    loadGltfBytes(bytes, fileName, file.parent_path(), scene, options);
+}
+
+void loadGltfFromMemory(std::string_view bytes, const std::string& name, const fs::path& baseDir, Scene& scene,
+                        const GltfLoadOptions& options) {
+    loadGltfBytes(bytes, name, baseDir, scene, options);
 }
 
 } // namespace tessera

@@ -27,7 +27,7 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr std::uint32_t kMaxResolution = 16384;         // texels per side
-constexpr std::uint32_t kMaxGeneratedLights = 1000000;  // per generator
+constexpr std::uint32_t kMaxGeneratedLights = 1000000;  // per generator, and all generators together
 constexpr float kDefaultExplicitRange = 100.0f;         // world units; 3dgep Light.h's default Range
 
 const std::vector<std::string> kTopLevelKeys = {
@@ -88,6 +88,20 @@ std::string formatNumber(double v) {
     out.precision(9);
     out << v;
     return out.str();
+}
+
+// All generators together make at most kMaxGeneratedLights lights: one generator's limit alone
+// would let a 2 KB file with a thousand generators ask for 100 GB of lights. Throws InputError
+// at the count that takes the sum past the limit.
+void checkGeneratedTotal(const std::vector<LightGeneratorSpec>& generators, const std::string& file) {
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < generators.size(); ++i) {
+        total += std::uint64_t(generators[i].count) + generators[i].spotCount;
+        if (total > kMaxGeneratedLights)
+            throw inputError(file, "/generate/" + std::to_string(i) + "/count",
+                             "the generators make " + std::to_string(total) + " lights up to this one; all generators together make at most " +
+                                 std::to_string(kMaxGeneratedLights));
+    }
 }
 
 // Validating reader: every check throws inputError(file, path, what).
@@ -630,6 +644,7 @@ SceneDescription parseSceneJson(const std::string& text, const std::filesystem::
         r.requireArray(generators, "/generate");
         for (std::size_t i = 0; i < generators.size(); ++i)
             d.generators.push_back(parseGenerator(r, generators[i], Reader::at("/generate", i)));
+        checkGeneratedTotal(d.generators, r.file());
     }
     std::size_t indirectLights = 0;
     for (std::size_t i = 0; i < d.explicitLights.size(); ++i)
@@ -737,6 +752,7 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
             scene.lights.push_back(std::move(light));
         }
     }
+    checkGeneratedTotal(d.generators, file);  // again: the counts may have been changed since (--lights)
     Bounds bounds;
     bool boundsKnown = false;
     for (std::size_t i = 0; i < d.generators.size(); ++i) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <sys/wait.h>
 
@@ -48,6 +49,23 @@ TEST_CASE("cli: render writes the image and exits 0, --dump writes every named b
     CHECK(std::filesystem::file_size(out) > 100);
     for (const char* f : {"backbuffer.png", "backbuffer.msaa.png", "depth.exr", "depth.stencil.png"})
         CHECK(std::filesystem::exists(dump / f));
+}
+
+TEST_CASE("cli: bytes that are not UTF-8 in a path reach the manifest as U+FFFD, and in --option they are bad usage") {
+    const auto out = scratch("latin1-\xE9.png");
+    const auto dump = scratch("latin1-dump");
+    std::filesystem::remove_all(dump);
+    const Run r = run("render builtin --width 16 --height 16 --quiet --out '" + out.string() + "' --dump " + dump.string());
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(std::filesystem::exists(out));
+    const nlohmann::json manifest = nlohmann::json::parse(std::ifstream(dump / "manifest.json"));
+    CHECK(manifest["image"].get<std::string>().find("latin1-\xEF\xBF\xBD.png") != std::string::npos);
+    std::filesystem::remove(out);
+
+    const Run option = run("render default --option \"$(printf 'tileSize=\\351')\"");  // 0xE9, through /bin/sh's printf
+    CHECK(option.exitCode == 2);
+    CHECK(option.output.find("--option: the argument is not valid UTF-8") != std::string::npos);
 }
 
 TEST_CASE("cli: --msaa renders a scene file through a deferred technique, dumps the multisampled buffers and counts edge pixels") {

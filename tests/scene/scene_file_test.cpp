@@ -255,6 +255,11 @@ TEST_CASE("values out of range") {
     expectError(scene(R"("lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0]}])"), "/lights/0/direction", "zero");
     expectError(scene(R"("generate": [{"count": 1000001}])"), "/generate/0/count", "1000001 is outside 0..1000000");
     expectError(scene(R"("generate": [{"count": -1}])"), "/generate/0/count", "-1 is outside 0..1000000");
+    // 1,000,000 lights per generator and for all generators together (a 2 KB file asked for 2.5 GB).
+    expectError(scene(R"("generate": [{"count": 600000}, {"count": 300000}, {"count": 100001}])"), "/generate/2/count",
+                "the generators make 1000001 lights up to this one; all generators together make at most 1000000");
+    expectError(scene(R"("generate": [{"count": 999999}, {"kind": "amd-forwardplus11", "count": 0, "spotCount": 2}])"),
+                "/generate/1/count", "make 1000001 lights");
     expectError(scene(R"("generate": [{"count": 1, "seed": -1}])"), "/generate/0/seed", "-1 is outside");
     expectError(scene(R"("generate": [{"count": 1, "pointFraction": 1.5}])"), "/generate/0/pointFraction", "1.5 is outside [0, 1]");
     expectError(scene(R"("generate": [{"count": 1, "range": [2, 1]}])"), "/generate/0/range", "min 2 is greater than max 1");
@@ -585,6 +590,15 @@ TEST_CASE("generate kind amd-forwardplus11: the demo's lights over the scene's b
         FAIL("no exception");
     } catch (const InputError& e) {
         CHECK(std::string(e.what()).find("/generate/1/count: 4096 point lights; AMD ForwardPlus11 has at most 2048") != std::string::npos);
+    }
+    // The total of every generator is checked again at load time, before any light is made.
+    SceneDescription many = d;
+    many.generators[0].count = 1000000;
+    try {
+        (void)tessera::loadScene(many, false, nullptr);
+        FAIL("no exception");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("/generate/1/count: the generators make 1000") != std::string::npos);
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -31,5 +32,11 @@ struct GltfLoadOptions {
 // (tangentsGenerated) whenever it has the UV set they follow (the material's normalTexture
 // texCoord, else TEXCOORD_0); without that UV set tangentsObject stays empty.
 void loadGltf(const std::filesystem::path& file, Scene& scene, const GltfLoadOptions& options = {});
+
+// The same from bytes in memory (a .gltf's JSON text, or a .glb, told apart by the "glTF" magic):
+// `name` stands for the file in messages, and external uris resolve against `baseDir` (data:
+// uris and a .glb's BIN chunk need no files). Every check of loadGltf applies.
+void loadGltfFromMemory(std::string_view bytes, const std::string& name, const std::filesystem::path& baseDir, Scene& scene,
+                        const GltfLoadOptions& options = {});
 
 } // namespace tessera
