@@ -6,6 +6,8 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+
+#include <tbb/task_arena.h>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +31,7 @@
 #include <tessera/io/input_error.h>
 #include <tessera/io/json_depth.h>
 #include <tessera/scene/default_lights.h>
+#include <tessera/frame/memory_limit.h>
 #include <tessera/scene/depth_precision.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/state/viewport.h>
@@ -97,6 +100,9 @@ options:
   --precision MODE  reference, exact or fast (default: the scene file's, else exact)
   --lights N        light count of every generator in the scene file, 0..1000000 (all of them
                     together at most 1000000)
+  --memory-limit G  refuse, before allocating, a render whose scene and frame buffers would need more
+                    than G GiB (default: 3/4 of the memory this process may use: the least of physical
+                    memory, the cgroup's memory.max and RLIMIT_AS); exit code 2, nothing written
   --threads N       worker threads, 0 = all cores (default 0)
   --tile T          tile size in px, even, 8..1024 (default 64)
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
@@ -444,6 +450,47 @@ void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine)
 
 void printPeakMemory() { std::printf("peak memory  %.1f MiB\n", peakRssMiB()); }
 
+// ---- Memory: estimated and refused before allocating (frame/memory_limit.h) --------------------
+std::uint64_t memoryLimitBytes(const RenderOptions& o) {
+    return o.memoryLimitGiB ? std::uint64_t(*o.memoryLimitGiB * 1073741824.0) : tessera::defaultMemoryLimitBytes();
+}
+
+std::string memoryLimitText(const RenderOptions& o) {
+    const std::string limit = tessera::formatBytes(double(memoryLimitBytes(o)));
+    if (o.memoryLimitGiB) return limit + " (--memory-limit)";
+    return limit + " (3/4 of the " + tessera::formatBytes(double(tessera::availableMemoryBytes())) +
+           " this process may use; --memory-limit GIB sets it)";
+}
+
+// Throws MemoryLimitError when `bytes` pass the limit: "FILE: WHAT needs about X, past the
+// memory limit of Y (...)".
+void checkMemory(const RenderOptions& o, const std::string& file, const std::string& what, double bytes) {
+    if (bytes > double(memoryLimitBytes(o)))
+        throw tessera::MemoryLimitError(file + ": " + what + " needs about " + tessera::formatBytes(bytes) +
+                                        ", past the memory limit of " + memoryLimitText(o) + "; nothing was allocated");
+}
+
+struct SceneBytes {
+    double geometry = 0.0, images = 0.0;
+};
+SceneBytes sceneBytes(const tessera::Scene& scene) {
+    SceneBytes b;
+    for (const tessera::Mesh& m : scene.meshes)
+        for (const tessera::MeshPrimitive& p : m.primitives)
+            b.geometry += double(p.positionsObject.size()) * sizeof(tessera::SceneVertex) + double(p.indices.size()) * 4.0;
+    for (const tessera::Image& img : scene.images) b.images += double(img.width) * img.height * 4.0;
+    return b;
+}
+
+// A bound on the frame's buffers that needs no probe frames: 512 B per sample (the largest
+// technique holds 84 B per pixel per sample), 16 B per light per 8 x 8 tile (two unbounded
+// lists of 4 B indices, twice over) and 4 KiB per light. Far below the limit: no probes.
+bool frameSurelyFits(const RenderOptions& o, std::uint32_t width, std::uint32_t height, std::size_t lights) {
+    const double pixels = double(width) * height;
+    const double bound = pixels * o.msaa * 512.0 + pixels / 64.0 * double(lights) * 16.0 + double(lights) * 4096.0;
+    return bound < 0.5 * double(memoryLimitBytes(o));
+}
+
 int renderBuiltin(const RenderOptions& o) {
     tessera::BuiltinSceneOptions opt;
     opt.width = o.width ? o.width : opt.width;
@@ -452,7 +499,25 @@ int renderBuiltin(const RenderOptions& o) {
     opt.precision = o.precision.value_or(tessera::Precision::Exact);
     tessera::Device device(o.device);
     tessera::DrawStats drawStats;
+    if (!frameSurelyFits(o, opt.width, opt.height, 0)) {
+        // Two probe frames (64 x 64 and 128 x 64 px): every builtin buffer grows with the pixels.
+        const auto bytesAt = [&](std::uint32_t width) {
+            tessera::BuiltinSceneOptions probe = opt;
+            probe.width = width;
+            probe.height = 64;
+            tessera::DrawStats probeStats;
+            tessera::BufferRegistry probeRegistry;
+            tessera::buildBuiltinScene(device, probe, probeStats).run(probeRegistry);
+            return double(probeRegistry.bytes());
+        };
+        const double small = bytesAt(64), large = bytesAt(128);
+        const double perPixel = (large - small) / (64.0 * 64.0);
+        checkMemory(o, "builtin", "rendering " + std::to_string(opt.width) + "x" + std::to_string(opt.height) + " at --msaa " +
+                                      std::to_string(opt.sampleCount),
+                    small + perPixel * (double(opt.width) * opt.height - 64.0 * 64.0));
+    }
     tessera::BufferRegistry registry;
+    registry.setByteLimit(memoryLimitBytes(o), memoryLimitText(o));
     const tessera::Frame frame = tessera::buildBuiltinScene(device, opt, drawStats);
     tessera::cli::Progress progress(o.progress);
     checkDumpAfter(frame, o);
@@ -584,6 +649,13 @@ int render(const std::vector<std::string_view>& args) {
              sceneFile.string() + " without them");
     }
     const double loadMs = msSince(t0);
+    // Textures are decoded next: refuse now if they (and the decode's float copies) cannot fit.
+    const SceneBytes loaded = sceneBytes(scene);
+    const tessera::TextureMemoryEstimate textures = tessera::SceneResources::estimateTextureMemory(
+        scene, tessera::findTechnique(desc.technique)->textures, std::size_t(tbb::this_task_arena::max_concurrency()));
+    checkMemory(o, sceneFile.string(), "decoding the scene's textures",
+                loaded.geometry + loaded.images + textures.textureBytes + textures.transientBytes);
+    const double residentBytes = loaded.geometry + loaded.images + textures.textureBytes;
     const auto t1 = Clock::now();
     const tessera::SceneResources resources(
         scene, [&](std::size_t done, std::size_t total) { progress.update("textures and mips", done, total); },
@@ -630,11 +702,22 @@ int render(const std::vector<std::string_view>& args) {
             dumpRegistry(now, fs::path(o.dumpDir) / folder, o, true, lightWritten, buffers);
             lightSteps[std::to_string(light)][std::string(step)] = {{"folder", folder}, {"buffers", buffers}};
         };
+    if (!frameSurelyFits(o, desc.width, desc.height, scene.lights.size())) {
+        progress.update("estimating memory", 0, 0);
+        const tessera::FrameMemoryEstimate e = tessera::estimateFrameMemory(desc.technique, ctx, sceneFile.string());
+        checkMemory(o, sceneFile.string(),
+                    "rendering " + std::to_string(desc.width) + "x" + std::to_string(desc.height) + " with " + desc.technique +
+                        (o.msaa > 1 ? " at --msaa " + std::to_string(o.msaa) : "") + " (frame buffers " +
+                        tessera::formatBytes(e.bytes) + ", " + std::to_string(int(std::lround(e.bytesPerPixel))) +
+                        " B per pixel; scene and textures " + tessera::formatBytes(residentBytes) + ")",
+                    residentBytes + e.bytes);
+    }
     const tessera::Frame frame = tessera::buildTechnique(desc.technique, ctx, sceneFile.string());
     checkDumpAfter(frame, o);
 
     try {
         tessera::BufferRegistry registry;
+        registry.setByteLimit(std::uint64_t(std::max(0.0, double(memoryLimitBytes(o)) - residentBytes)), memoryLimitText(o));
         const FrameRuns runs = runFrames(frame, registry, o, progress, "rendering " + desc.technique, [&] {
             ++runsStarted;
             drawStats = {};
@@ -695,6 +778,9 @@ int render(const std::vector<std::string_view>& args) {
         else
             std::printf("wrote %s (%ux%u, %s)\n", o.out.c_str(), desc.width, desc.height, desc.technique.c_str());
         return 0;
+    } catch (const tessera::InputError&) {  // MemoryLimitError from a buffer past the limit: exit 2
+        progress.finish();
+        throw;
     } catch (const std::exception& e) {
         progress.finish();
         std::fprintf(stderr, "tessera render: %s\n", e.what());
@@ -805,20 +891,14 @@ int info(const std::vector<std::string_view>& args) {
     if (sceneArg == "builtin") return infoBuiltin();
     const fs::path file = resolveScene(sceneArg);
     const tessera::SceneDescription desc = describe(file);
-    (void)tessera::requireTechnique(desc.technique, file.string());  // planned techniques are described too
     tessera::Camera camera;
     const tessera::Scene scene = tessera::loadScene(desc, false, &camera);
-    std::size_t primitives = 0, geometryBytes = 0;
-    for (const tessera::Mesh& m : scene.meshes)
-        for (const tessera::MeshPrimitive& p : m.primitives) {
-            ++primitives;
-            geometryBytes += p.positionsObject.size() * sizeof(tessera::SceneVertex) + p.indices.size() * 4;
-        }
-    // Decoded RGBA8 images stay in the Scene; their textures add a full mip chain, at most 1/3
-    // more than level 0 (1/4 + 1/16 + ...).
-    std::size_t imageBytes = 0;
-    for (const tessera::Image& img : scene.images) imageBytes += std::size_t(img.width) * img.height * 4;
-    const std::size_t textureBytes = imageBytes * 4 / 3;
+    std::size_t primitives = 0;
+    for (const tessera::Mesh& m : scene.meshes) primitives += m.primitives.size();
+    const SceneBytes loaded = sceneBytes(scene);  // images: from their headers (not decoded here)
+    const tessera::TechniqueInfo& technique = tessera::requireTechnique(desc.technique, file.string());
+    const tessera::TextureMemoryEstimate textures = tessera::SceneResources::estimateTextureMemory(
+        scene, technique.textures, std::size_t(tbb::this_task_arena::max_concurrency()));
     std::size_t lightsByType[3] = {0, 0, 0};
     for (const tessera::Light& l : scene.lights) ++lightsByType[int(l.type)];
     const tessera::Bounds b = scene.bounds();
@@ -837,13 +917,35 @@ int info(const std::vector<std::string_view>& args) {
     else
         std::printf("bounds      (%g, %g, %g) .. (%g, %g, %g)\n", b.minWorld.x, b.minWorld.y, b.minWorld.z, b.maxWorld.x,
                     b.maxWorld.y, b.maxWorld.z);
-    // Render targets: the preview technique's 4 B colour + 4 B depth per pixel; others list theirs.
-    const double targetsBytes = double(desc.width) * desc.height * 8.0;
-    const double mib = 1048576.0;
-    std::printf("memory      about %.1f MiB besides the program: geometry %.1f, decoded images %.1f, textures with mips %.1f, "
-                "targets %.1f MiB\n",
-                (double(geometryBytes + imageBytes + textureBytes) + targetsBytes) / mib, double(geometryBytes) / mib,
-                double(imageBytes) / mib, double(textureBytes) / mib, targetsBytes / mib);
+    // Frame buffers: the technique's probe frames (estimateFrameMemory), untextured (no images here).
+    double frameBytes = 0.0, perPixel = 0.0;
+    if (technique.build) {
+        const tessera::SceneResources resources(scene, {}, technique.textures);
+        tessera::Device device(tessera::DeviceConfig{});
+        tessera::TechniqueContext ctx;
+        ctx.device = &device;
+        ctx.resources = &resources;
+        ctx.camera = camera;
+        ctx.width = desc.width;
+        ctx.height = desc.height;
+        ctx.options = desc.techniqueOptions;
+        ctx.precision = desc.precision;
+        ctx.sceneFile = file.string();
+        const tessera::FrameMemoryEstimate e = tessera::estimateFrameMemory(desc.technique, ctx, file.string());
+        frameBytes = e.bytes;
+        perPixel = e.bytesPerPixel;
+    }
+    const double resident = loaded.geometry + loaded.images + textures.textureBytes + frameBytes;
+    std::printf("memory      about %s besides the program, peak %s while textures decode: geometry %s, decoded images %s, "
+                "textures with mips %s (+ %s of float copies while decoding), frame buffers %s (%.0f B per pixel, 1 sample)\n",
+                tessera::formatBytes(resident).c_str(),
+                tessera::formatBytes(loaded.geometry + loaded.images + textures.textureBytes + textures.transientBytes).c_str(),
+                tessera::formatBytes(loaded.geometry).c_str(), tessera::formatBytes(loaded.images).c_str(),
+                tessera::formatBytes(textures.textureBytes).c_str(), tessera::formatBytes(textures.transientBytes).c_str(),
+                tessera::formatBytes(frameBytes).c_str(), perPixel);
+    std::printf("limit       renders are refused past %s (3/4 of the %s this process may use; tessera render --memory-limit)\n",
+                tessera::formatBytes(double(tessera::defaultMemoryLimitBytes())).c_str(),
+                tessera::formatBytes(double(tessera::availableMemoryBytes())).c_str());
     return 0;
 }
 

@@ -136,6 +136,14 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             if (end != text.c_str() + text.size() || !(o.exposure > 0.0f) || !std::isfinite(o.exposure))
                 throw UsageError("--exposure: '" + text + "' is not a positive number");
         }
+        else if (a == "--memory-limit") {
+            const std::string text(value());
+            char* end = nullptr;
+            const double gib = std::strtod(text.c_str(), &end);
+            if (end != text.c_str() + text.size() || !(gib > 0.0) || !(gib <= 1048576.0))
+                throw UsageError("--memory-limit: '" + text + "' is not a number of GiB in (0, 1048576]");
+            o.memoryLimitGiB = gib;
+        }
         else if (a == "--stats") o.stats = true;
         else if (a == "--quiet") o.quiet = true;
         else if (a == "--progress") o.progress = Progress::Mode::On;

@@ -52,6 +52,7 @@ struct RenderOptions {
     DeviceConfig device;
     std::uint32_t msaa = 1;
     std::uint32_t repeat = 1, warmup = 0;
+    std::optional<double> memoryLimitGiB;  // --memory-limit; default: frame/memory_limit.h
     bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false, noDefaultLights = false;
     Progress::Mode progress = Progress::Mode::Auto;
 };

@@ -4,6 +4,7 @@
 // on scheduling).
 #include <tessera/scene/scene_resources.h>
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <set>
@@ -18,6 +19,49 @@ struct SceneResources::LazyShadowRays {
     std::once_flag built;
     std::unique_ptr<ShadowRayScene> scene;
 };
+
+namespace {
+
+// The (image, encoding) pairs the materials use, each decoded once; `sizeOnly`: images whose
+// pixels are not loaded count too (`tessera info` reads only the headers).
+std::set<std::pair<int, TexelEncoding>> wantedTextures(const Scene& scene, TexturePolicy policy, bool sizeOnly) {
+    std::set<std::pair<int, TexelEncoding>> wanted;
+    auto want = [&](const TextureRef& ref, TexelEncoding enc) {
+        if (!ref.present() || std::size_t(ref.texture) >= scene.textures.size()) return;
+        const int image = scene.textures[std::size_t(ref.texture)].image;
+        if (image < 0 || std::size_t(image) >= scene.images.size()) return;
+        const Image& img = scene.images[std::size_t(image)];
+        if (sizeOnly ? img.width > 0 && img.height > 0 : !img.rgba8.empty()) wanted.insert({image, enc});
+    };
+    const TexelEncoding colorEncoding = policy == TexturePolicy::Gltf ? TexelEncoding::Srgb : TexelEncoding::Linear;
+    for (const Material& m : scene.materials) {
+        want(m.baseColorTexture, colorEncoding);
+        want(m.emissiveTexture, colorEncoding);
+        want(m.metallicRoughnessTexture, TexelEncoding::Linear);
+        want(m.normalTexture, TexelEncoding::Linear);
+        want(m.occlusionTexture, TexelEncoding::Linear);
+    }
+    return wanted;
+}
+
+} // namespace
+
+TextureMemoryEstimate SceneResources::estimateTextureMemory(const Scene& scene, TexturePolicy policy, std::size_t threads) {
+    TextureMemoryEstimate e;
+    std::vector<double> levelZero;
+    for (const auto& [image, encoding] : wantedTextures(scene, policy, true)) {
+        const Image& img = scene.images[std::size_t(image)];
+        const double texels = double(img.width) * double(img.height);
+        // R8G8B8A8 with a full mip chain: at most 4/3 of level 0 (1/4 + 1/16 + ... below it).
+        e.textureBytes += texels * 4.0 * 4.0 / 3.0;
+        levelZero.push_back(texels);
+    }
+    // Texture2D::generateMipChain decodes the source level to float4 (16 B per texel) while it
+    // builds the chain; the decodes run in parallel, so the largest `threads` of them at once.
+    std::sort(levelZero.rbegin(), levelZero.rend());
+    for (std::size_t i = 0; i < levelZero.size() && i < std::max<std::size_t>(threads, 1); ++i) e.transientBytes += levelZero[i] * 16.0;
+    return e;
+}
 
 SceneResources::SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress,
                                TexturePolicy policy)
@@ -59,22 +103,7 @@ SceneResources::SceneResources(const Scene& scene, const std::function<void(std:
         }
     }
 
-    // Textures: the (image, encoding) pairs the materials use.
-    std::set<std::pair<int, TexelEncoding>> wanted;
-    auto want = [&](const TextureRef& ref, TexelEncoding enc) {
-        if (!ref.present() || std::size_t(ref.texture) >= scene.textures.size()) return;
-        const int image = scene.textures[std::size_t(ref.texture)].image;
-        if (image >= 0 && std::size_t(image) < scene.images.size() && !scene.images[std::size_t(image)].rgba8.empty())
-            wanted.insert({image, enc});
-    };
-    const TexelEncoding colorEncoding = policy == TexturePolicy::Gltf ? TexelEncoding::Srgb : TexelEncoding::Linear;
-    for (const Material& m : scene.materials) {
-        want(m.baseColorTexture, colorEncoding);
-        want(m.emissiveTexture, colorEncoding);
-        want(m.metallicRoughnessTexture, TexelEncoding::Linear);
-        want(m.normalTexture, TexelEncoding::Linear);
-        want(m.occlusionTexture, TexelEncoding::Linear);
-    }
+    const std::set<std::pair<int, TexelEncoding>> wanted = wantedTextures(scene, policy, false);
     const std::vector<std::pair<int, TexelEncoding>> keys(wanted.begin(), wanted.end());
     std::vector<Texture2D> decoded(keys.size());
     std::atomic<std::size_t> done{0};

@@ -509,3 +509,54 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
     CHECK(run("probe default 5").exitCode == 2);
     CHECK(run("render default --json").exitCode == 2);
 }
+
+TEST_CASE("cli: renders that would pass the memory limit are refused before allocating, with exit 2 and nothing written") {
+    const auto out = scratch("too-big.png");
+    std::filesystem::remove(out);
+    // deferred, float G-buffer: 84 B per pixel (tests/unit/memory_limit_test.cpp) x 16384^2 = 21 GiB.
+    const Run d = run("render default --technique deferred --option gbuffer=float --width 16384 --height 16384 --memory-limit 4 --out " +
+                      out.string());
+    INFO(d.output);
+    CHECK(d.exitCode == 2);
+    CHECK(d.output.find("rendering 16384x16384 with deferred (frame buffers 21.0 GiB, 84 B per pixel") != std::string::npos);
+    CHECK(d.output.find("past the memory limit of 4.0 GiB (--memory-limit); nothing was allocated") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+    // builtin at --msaa 8: colour + depth 8 B per sample x 8 samples + the resolved 4 B = 68 B per px = 17 GiB.
+    const Run b = run("render builtin --width 16384 --height 16384 --msaa 8 --memory-limit 8 --out " + out.string());
+    INFO(b.output);
+    CHECK(b.exitCode == 2);
+    CHECK(b.output.find("builtin: rendering 16384x16384 at --msaa 8 needs about 17.0 GiB") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+    // A million large lights in forward-plus's unbounded lists: nearly every light in every tile's
+    // two lists (920 tiles x 10^6 x 4 B x 2 = 7.4 GB), the light term of the estimate.
+    const Run l = run("render sponza-large-lights --technique forward-plus --option lightLists=unbounded --lights 1000000 "
+                      "--memory-limit 1 --no-output --width 640 --height 360");
+    INFO(l.output);
+    CHECK(l.exitCode == 2);
+    CHECK(l.output.find("rendering 640x360 with forward-plus (frame buffers 6.") != std::string::npos);
+    CHECK(l.output.find("past the memory limit of 1.0 GiB (--memory-limit)") != std::string::npos);
+    // The same scene at 64 lights fits.
+    CHECK(run("render sponza-large-lights --lights 64 --memory-limit 1 --no-output --width 64 --height 36").exitCode == 0);
+    for (const char* bad : {"0", "-1", "abc", "1e9"}) {
+        const Run u = run(std::string("render default --no-output --memory-limit ") + bad);
+        CHECK(u.exitCode == 2);
+        CHECK(u.output.find("--memory-limit: '" + std::string(bad) + "' is not a number of GiB") != std::string::npos);
+    }
+    const Run i = run("info default");
+    CHECK(i.output.find("frame buffers 1.8 MiB (8 B per pixel, 1 sample)") != std::string::npos);  // RGBA8 + D24S8 at 640x360
+    CHECK(i.output.find("limit       renders are refused past") != std::string::npos);
+}
+
+TEST_CASE("cli: a projection whose depth range collapses is rendered with a warning naming the distances") {
+    const auto scene = scratch("collapsed.json");
+    {
+        std::ofstream f(scene);
+        f << R"({"models": [{"path": ")" << TESSERA_SOURCE_DIR
+          << R"(/scenes/khronos/BoxTextured/glTF/BoxTextured.gltf"}], "camera": {"position": [0, 0, 5], "target": [0, 0, 0], "near": 1e-7, "far": 1e9}, "resolution": [32, 32]})";
+    }
+    const Run r = run("render " + scene.string() + " --no-output");
+    INFO(r.output);
+    CHECK(r.exitCode == 0);
+    CHECK(r.output.find("warning: " + scene.string() + ": the depth range collapses: surfaces farther than 3.36 from the eye") !=
+          std::string::npos);
+}

@@ -49,8 +49,17 @@ enum class TexturePolicy {
     AllLinear   // every slot as UNORM, no sRGB decode: the 3dgep demo shades gamma-space values
 };
 
+// What SceneResources will allocate for textures, before it decodes any (scene images' sizes).
+struct TextureMemoryEstimate {
+    double textureBytes = 0.0;    // kept: every (image, encoding) pair with its mip chain
+    double transientBytes = 0.0;  // while decoding: float4 copies of the largest levels in flight
+};
+
 class SceneResources {
 public:
+    // The texture memory `scene` will take with `policy` when `threads` textures decode at once.
+    static TextureMemoryEstimate estimateTextureMemory(const Scene& scene, TexturePolicy policy, std::size_t threads);
+
     // `progress(done, total)` is called after each texture is decoded (from one thread at a
     // time, in no fixed order); may be empty.
     explicit SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress = {},
