@@ -450,6 +450,22 @@ void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine)
 
 void printPeakMemory() { std::printf("peak memory  %.1f MiB\n", peakRssMiB()); }
 
+// The frame a scene file describes: its camera, size, technique options and precision (render
+// adds samples and statistics).
+tessera::TechniqueContext frameContext(tessera::Device& device, const tessera::SceneResources& resources, const tessera::Camera& camera,
+                                       const tessera::SceneDescription& desc, const fs::path& sceneFile) {
+    tessera::TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.camera = camera;
+    ctx.width = desc.width;
+    ctx.height = desc.height;
+    ctx.options = desc.techniqueOptions;
+    ctx.precision = desc.precision;
+    ctx.sceneFile = sceneFile.string();
+    return ctx;
+}
+
 // ---- Memory: estimated and refused before allocating (frame/memory_limit.h) --------------------
 std::uint64_t memoryLimitBytes(const RenderOptions& o) {
     return o.memoryLimitGiB ? std::uint64_t(*o.memoryLimitGiB * 1073741824.0) : tessera::defaultMemoryLimitBytes();
@@ -664,19 +680,11 @@ int render(const std::vector<std::string_view>& args) {
 
     tessera::Device device(o.device);
     tessera::DrawStats drawStats;
-    tessera::TechniqueContext ctx;
-    ctx.device = &device;
-    ctx.resources = &resources;
-    ctx.camera = camera;
-    ctx.width = desc.width;
-    ctx.height = desc.height;
+    tessera::TechniqueContext ctx = frameContext(device, resources, camera, desc, sceneFile);
     ctx.sampleCount = o.msaa;
-    ctx.options = desc.techniqueOptions;
-    ctx.precision = desc.precision;
     ctx.stats = &drawStats;
     std::map<std::string, std::uint64_t> variantCounts;
     ctx.variantCounts = &variantCounts;
-    ctx.sceneFile = sceneFile.string();
     // --dump-lights: the chosen lights' steps, written during the last (written) run only.
     for (const std::uint32_t light : o.dumpLights)
         if (light >= scene.lights.size())
@@ -922,15 +930,7 @@ int info(const std::vector<std::string_view>& args) {
     if (technique.build) {
         const tessera::SceneResources resources(scene, {}, technique.textures);
         tessera::Device device(tessera::DeviceConfig{});
-        tessera::TechniqueContext ctx;
-        ctx.device = &device;
-        ctx.resources = &resources;
-        ctx.camera = camera;
-        ctx.width = desc.width;
-        ctx.height = desc.height;
-        ctx.options = desc.techniqueOptions;
-        ctx.precision = desc.precision;
-        ctx.sceneFile = file.string();
+        const tessera::TechniqueContext ctx = frameContext(device, resources, camera, desc, file);
         const tessera::FrameMemoryEstimate e = tessera::estimateFrameMemory(desc.technique, ctx, file.string());
         frameBytes = e.bytes;
         perPixel = e.bytesPerPixel;
