@@ -144,7 +144,8 @@ TEST_CASE("packing: a wall 3 D24 steps in front of the far plane is drawn, the f
     // below the cleared 2^24 - 1 and passes forward's LESS test; the wall at z = -f is clipped.
     const double n = 1.0, f = 16.0, step = 1.0 / 16777215.0;
     const auto zAt = [&](double depth) { return static_cast<float>(-(n * f / (f - depth * (f - n)))); };
-    for (const auto& [steps, drawn] : std::vector<std::pair<int, bool>>{{3, true}, {0, false}}) {
+    for (const int steps : {3, 0}) {
+        const bool drawn = steps > 0;
         CAPTURE(steps);
         TestScene t;
         t.scene = oneTriangle(zAt(1.0 - steps * step));
