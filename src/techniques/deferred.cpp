@@ -278,10 +278,8 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
         indices = kScreenQuadIndices;
     } else {
         // ModelView = View * T * R * S; ModelViewProjection = Projection * ModelView.
-        const float reachWorld = light.range > kVolumeOverflowRange
-                                     ? frustumReachWorld(light.positionWorld, fwd.clipFromView * fwd.viewFromWorld)
-                                     : std::numeric_limits<float>::infinity();
-        const glm::mat4 viewFromObject = fwd.viewFromWorld * setup.volumes.worldFromObject(light, setup.options.volumes, reachWorld);
+        const glm::mat4 clipFromWorld = fwd.clipFromView * fwd.viewFromWorld;
+        const glm::mat4 viewFromObject = fwd.viewFromWorld * setup.volumes.worldFromObject(light, setup.options.volumes, &clipFromWorld);
         vs.clipFromObject = fwd.clipFromView * viewFromObject;
         const bool sphere = light.type == LightType::Point;
         vertices = sphere ? std::span<const VolumeVertex>(setup.sphereVertices) : std::span<const VolumeVertex>(setup.coneVertices);

@@ -331,10 +331,8 @@ std::vector<ClassicDraw> planDraws(const std::vector<Light>& lights, const Class
                 d.vertices.clear();
                 for (const glm::vec3& p : mesh.positions) d.vertices.push_back({p});
                 d.indices = mesh.indices;
-                const float reachWorld = l.range > kVolumeOverflowRange
-                                             ? frustumReachWorld(l.positionWorld, fwd.clipFromView * fwd.viewFromWorld)
-                                             : std::numeric_limits<float>::infinity();
-                d.clipFromLocal = fwd.clipFromView * fwd.viewFromWorld * volumes.worldFromObject(l, fit, reachWorld);
+                const glm::mat4 clipFromWorld = fwd.clipFromView * fwd.viewFromWorld;
+                d.clipFromLocal = clipFromWorld * volumes.worldFromObject(l, fit, &clipFromWorld);
                 d.pass.rasterizer.frontCounterClockwise = true;  // the 3dgep meshes: counter-clockwise outside
                 d.pass.depthStencil.depthEnable = true;
                 if (crossesFar) {  // front faces, LESS_EQUAL: occluded light rejected

@@ -220,7 +220,7 @@ float frustumReachWorld(const glm::vec3& posWorld, const glm::mat4& clipFromWorl
     return static_cast<float>(std::min(reach, double(std::numeric_limits<float>::max())));
 }
 
-glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOptions& options, float reachWorld) const {
+glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOptions& options, const glm::mat4* clipFromWorld) const {
     if (light.type == LightType::Directional)
         throw std::invalid_argument("LightVolumes::worldFromObject: directional lights have no volume (full-screen quad)");
     const bool circumscribed = options.fit == VolumeFit::Circumscribed;
@@ -235,8 +235,10 @@ glm::mat4 LightVolumes::worldFromObject(const Light& light, const LightVolumeOpt
             scale.y *= mConeRadialScale;
         }
     }
-    if (light.range > kVolumeOverflowRange && std::isfinite(reachWorld) && light.range > 2.0f * reachWorld)
-        scale *= (2.0f * reachWorld) / light.range;
+    if (light.range > kVolumeOverflowRange && clipFromWorld != nullptr) {
+        const float reachWorld = frustumReachWorld(light.positionWorld, *clipFromWorld);
+        if (std::isfinite(reachWorld) && light.range > 2.0f * reachWorld) scale *= (2.0f * reachWorld) / light.range;
+    }
     glm::quat rotation(1.0f, 0.0f, 0.0f, 0.0f);
     const float dirLength = glm::length(light.directionWorld);
     if (dirLength > 0.0f && std::isfinite(dirLength))

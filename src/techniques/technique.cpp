@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include <tessera/buffers/conversion.h>

@@ -113,13 +113,14 @@ public:
     //          det_math.h's detTan (libm-independent).
     // A zero or non-finite direction gives no rotation. Throws std::invalid_argument for
     // directional lights.
-    // reachWorld (frustumReachWorld): where Range exceeds kVolumeOverflowRange, the clip-space
-    // transform of a volume that large overflows binary32 (range 3e38 x the projection's 2.4:
-    // every vertex at infinity, the light lost), so S is scaled down uniformly until Range is
-    // 2 x reachWorld: the volume still holds every visible point the light reaches, and the
-    // shading keeps the light's own range. Other volumes are untouched.
+    // clipFromWorld (the frame's, or null): where Range exceeds kVolumeOverflowRange, the
+    // clip-space transform of a volume that large overflows binary32 (range 3e38 x the
+    // projection's 2.4: every vertex at infinity, the light lost), so S is scaled down uniformly
+    // until Range is twice the view's reach (frustumReachWorld): the volume still holds every
+    // visible point the light reaches, and the shading keeps the light's own range. Other volumes
+    // are untouched, and the reach is computed only for those beyond the threshold.
     glm::mat4 worldFromObject(const Light& light, const LightVolumeOptions& options = {},
-                              float reachWorld = std::numeric_limits<float>::infinity()) const;
+                              const glm::mat4* clipFromWorld = nullptr) const;
 
 private:
     VolumeMesh mSphere, mCone;

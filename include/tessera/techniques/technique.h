@@ -81,8 +81,6 @@ inline constexpr std::string_view kBackBufferName = "backbuffer";
 // double shading rounded once to float, clamped to [0, 1] as the UNORM back buffer clamps),
 // written beside the back buffer by every technique.
 inline constexpr std::string_view kReferenceBufferName = "backbuffer.reference";
-// `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
-// inserted after the back buffer when `precision` is Reference.
 // The bytes a frame's buffers will hold (BufferRegistry::bytes after run) for `context`, from four
 // probe frames rendered with the same technique, options, samples, precision and camera (its
 // aspect kept): 64x64 and 128x64 px, with the first min(L, 32) and min(L, 64) of the L lights.
@@ -105,6 +103,8 @@ FrameMemoryEstimate estimateFrameMemory(std::string_view id, const TechniqueCont
 // naming `sceneFile` and the key ("/camera/near", "/lights": "light 3 ('key'): ...").
 void checkFrameInputs(const TechniqueContext& context, const std::string& sceneFile);
 
+// `names` (a pass's buffer list that starts with the back buffer) with kReferenceBufferName
+// inserted after the back buffer when `precision` is Reference.
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision);
 
 // The target a technique draws its image into: the back buffer itself, or with MSAA
