@@ -57,11 +57,13 @@ inline Frustum gridFrustum3dgep(glm::uvec2 tileId, std::uint32_t blockSizePx, co
 }
 
 // An orthographic camera (which the 3dgep demo never had): its rays are parallel, so planes
-// through the eye are not the tile's sides (forward-plus culled lights that reached 489 of 3072
-// pixels of the extremes catalogue's orthographic room). Each side plane passes through the tile
-// corner a on the near plane and the corners a, b on the far plane, NDC z = nearNdc and farNdc
-// (orthographic cameras take the D3D form, 0 and 1, under either projection option), same
-// corner order and normal direction as gridFrustum3dgep.
+// through the eye are not the tile's sides. gridFrustum3dgep's corners (NDC z = -1) lie at view
+// z = f - 2n there, behind the eye: nearly right when f >> n, degenerate at f = 2n (NaN planes
+// and 50 of 3072 pixels losing light in the extremes catalogue's "orthographic with far = 2 x
+// near"). Each side plane here passes through the tile corner a on the near plane and the
+// corners a, b on the far plane, NDC z = nearNdc and farNdc (orthographic cameras take the D3D
+// form, 0 and 1, under either projection option), same corner order and normal direction as
+// gridFrustum3dgep.
 inline Frustum gridFrustumOrthographic(glm::uvec2 tileId, std::uint32_t blockSizePx, const glm::vec2& screenDimensions,
                                        const glm::mat4& inverseProjection, float nearNdc, float farNdc) {
     const auto corner = [&](std::uint32_t tx, std::uint32_t ty, float zNdc) {
