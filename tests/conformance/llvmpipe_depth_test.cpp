@@ -201,10 +201,11 @@ TEST_CASE("llvmpipe depth: slivers far from the origin: llvmpipe's float plane f
     const Deviation d = measure(c, t, &g);
     INFO(d.covered << " px: max |tessera - truth| " << d.maxTessera << ", max |llvmpipe - truth| " << d.maxPeer << " at ("
                    << d.worstX << ", " << d.worstY << "), " << d.peerOver16 << " px by more than 16 codes");
-    // Off the snapping grid and off a power-of-two scale the two window transforms may round a
-    // vertex to a different 1/256 step (coverage is compared exactly elsewhere, on exact
-    // positions); depth is compared where both cover.
-    MESSAGE(d.coverageDiffers << " px covered by one side only");
+    // Some slivers reach past the far plane (depths up to 1.09, clipped at z = w): where
+    // llvmpipe's depth error lifts a pixel near the far plane to 1.0, its LESS test against the
+    // clear (1.0) fails and only tessera writes it (1 pixel here, (1058, 149): tessera 16777199, at
+    // the truth). Depth is compared where both wrote.
+    MESSAGE(d.coverageDiffers << " px written by one side only");
     CHECK(d.maxTessera <= 1);
     // The known difference: llvmpipe leaves the D3D11 depth by more than interpolation rounding...
     CHECK(d.peerOver16 > 0);
