@@ -21,7 +21,7 @@
 // unsnapped plane. The frame's largest difference (165,198 codes) is coverage: llvmpipe clips
 // triangles at the viewport, off the snapping grid, and covers a pixel centre on an edge that
 // D3D11's rules leave out (the last test reproduces it); the next two (49,536 and 86,833 codes)
-// also store a nearer surface than D3D11's, not traced.
+// are a nearer triangle covering in llvmpipe only, and one not traced (bench/RESULTS.md).
 #include <doctest/doctest.h>
 
 #include <algorithm>
