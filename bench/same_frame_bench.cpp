@@ -21,11 +21,14 @@
 #include <vector>
 
 #include <tessera/io/image_writer.h>
+#include <tessera/scene/phong_material.h>
 #include <tessera/scene/scene_file.h>
+#include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>
 
 #include "bench_support.h"
+#include "../tests/support/depth_truth.h"
 #include "same_frame/gl_context.h"
 #include "same_frame/gl_renderer.h"
 
@@ -70,6 +73,11 @@ options:
                            comparable)
   --csv FILE               also write every row as CSV
   --dump DIR               write <technique>-t<threads>-{tessera,llvmpipe|gpu,diff}.png into DIR
+  --depth-analysis FILE    forward and forward-plus: judge both D24 depth buffers against the
+                           double-precision D3D11 depth (tests/support/depth_truth.h) of the
+                           opaque geometry, print the histograms per class of difference, and
+                           write the pixels that differ by more than 1 code (either side from
+                           the truth, or the two from each other by more than 16) to FILE as CSV
   --help                   show this text
 )";
 
@@ -86,7 +94,7 @@ struct Options {
     std::uint32_t tileSize = 64;  // px
     Precision precision = Precision::Exact;
     std::uint32_t forwardLights = 64, forwardPlusLights = 1024, deferredLights = 256;
-    std::string csv, dumpDir;
+    std::string csv, dumpDir, depthAnalysis;
     bool emulatedSampling = false;
     std::string forwardPlusCulling = "binned";
     samefr::GlPlatform platform = samefr::GlPlatform::Surfaceless;
@@ -149,6 +157,7 @@ Options parseArgs(int argc, char** argv) {
         else if (a == "--tessera-threads") o.tesseraThreads = value();
         else if (a == "--csv") o.csv = value();
         else if (a == "--dump") o.dumpDir = value();
+        else if (a == "--depth-analysis") o.depthAnalysis = value();
         else usageError("unknown option '" + a + "'");
     }
     if (o.glDevice >= 0 && o.platform != samefr::GlPlatform::Device) usageError("--gl-device needs --gl-platform device");
@@ -562,6 +571,186 @@ void writeCsv(const std::string& path, const std::vector<Row>& rows, const GlLab
     }
 }
 
+// --depth-analysis: tessera's and GL's D24 codes against the double-precision truth of the
+// opaque geometry (depth_truth.h), the class of each difference and the triangle behind it.
+namespace dt = tessera::depth_truth;
+
+// Where a pixel's truth came from: draw item, triangle, whether it was clipped.
+struct Winner {
+    std::int32_t item = -1;
+    std::uint32_t triangle = 0;
+    bool clipped = false;
+};
+
+// llvmpipe's depth plane as lp_state_setup.c builds it (init_args / calc_coef4): float window
+// positions (the draw module's x * (1/w) * scale + translate), the plane's gradients from the
+// unsnapped positions and a float 1/area, a0 extrapolated to the framebuffer origin's pixel
+// centre, evaluated a0 + dzdx x + dzdy y at integer pixel coordinates (the order of the
+// interpolator's sums is not modelled); then clamped to [0, 1] and converted as lp_bld_conv.c does. For unclipped triangles only (llvmpipe's clipper is not
+// modelled).
+std::uint32_t llvmpipeModel(const glm::vec4 c[3], float width, float height, std::int64_t px, std::int64_t py,
+                            float* dzdxOut = nullptr, float* a0Out = nullptr) {
+    float x[3], y[3], z[3];
+    for (int i = 0; i < 3; ++i) {
+        const float oow = 1.0f / c[i].w;
+        x[i] = c[i].x * oow * (width * 0.5f) + width * 0.5f;
+        y[i] = -c[i].y * oow * (height * 0.5f) + height * 0.5f;
+        z[i] = c[i].z * oow;
+    }
+    const float x0c = x[0] - 0.5f, y0c = y[0] - 0.5f;
+    const float dx01 = x[0] - x[1], dy01 = y[0] - y[1], dx20 = x[2] - x[0], dy20 = y[2] - y[0];
+    const float e = dx01 * dy20, f = dy01 * dx20;
+    const float ooa = 1.0f / (e - f);
+    const float dx20o = dx20 * ooa, dy20o = dy20 * ooa, dx01o = dx01 * ooa, dy01o = dy01 * ooa;
+    const float dz01 = z[0] - z[1], dz20 = z[2] - z[0];
+    const float dzdx = dz01 * dy20o - dz20 * dy01o;
+    const float dzdy = dz20 * dx01o - dz01 * dx20o;
+    const float a0 = z[0] - (dzdx * x0c + dzdy * y0c);
+    if (dzdxOut) *dzdxOut = dzdx;
+    if (a0Out) *a0Out = a0;
+    float zp = a0 + (dzdx * float(px) + dzdy * float(py));
+    zp = std::min(std::max(zp, 0.0f), 1.0f);
+    // lp_build_clamped_float_to_unsigned_norm for 24 bits (= mantissa + 1): the product
+    // z * (2^24 - 1) in float, then rounded to an integer.
+    const float scaled = zp * 16777215.0f;
+    return std::uint32_t(std::nearbyint(scaled));
+}
+
+void depthAnalysis(const LoadedScene& s, const Config& c, std::uint32_t threads, const Frame8& tess, const Frame8& gl,
+                   const std::string& csvPath) {
+    if (c.technique == Technique::Deferred) {
+        std::printf("\n(depth analysis: %s skipped: its G-buffer pass alpha-tests, which the truth does not model)\n", c.id.c_str());
+        return;
+    }
+    const TechniqueContext ctx = contextFor(s, nullptr);
+    const std::shared_ptr<ForwardPassSetup> setup =
+        makeForwardPassSetup(ctx, ProjectionConvention::DemoGl, PhongSamplerChoice::Demo, false);
+    const std::uint32_t w = setup->width, h = setup->height;
+    const SceneResources& res = *s.resources;
+    std::vector<std::uint32_t> truth(std::size_t(w) * h, dt::kFarCode);
+    std::vector<Winner> winner(truth.size());
+    const auto triangleClip = [&](const DrawItem& item, std::uint32_t tri, glm::vec4 out[3]) {
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const glm::mat4 viewFromObject = setup->viewFromWorld * item.worldFromObject;
+        const PhongVS vs{setup->clipFromView * viewFromObject, viewFromObject};
+        for (std::uint32_t k = 0; k < 3; ++k) {
+            const std::uint32_t index = prim.indices.empty() ? tri * 3 + k : prim.indices[tri * 3 + k];
+            out[k] = vs(prim.vertices[index]).posClip;
+        }
+    };
+    std::uint64_t trianglesClipped = 0;
+    for (std::size_t k = 0; k < res.drawItems().size(); ++k) {
+        const DrawItem& item = res.drawItems()[k];
+        const PhongMaterial material = phongFromGltf(res.material(item.material));
+        if (material.isTransparent()) continue;  // the transparent pass writes no depth
+        const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        const std::size_t count = (prim.indices.empty() ? prim.vertices.size() : prim.indices.size()) / 3;
+        for (std::uint32_t tri = 0; tri < count; ++tri) {
+            glm::vec4 cf[3];
+            triangleClip(item, tri, cf);
+            const glm::dvec4 cd[3] = {glm::dvec4(cf[0]), glm::dvec4(cf[1]), glm::dvec4(cf[2])};
+            bool inside = true;
+            for (const glm::dvec4& v : cd) inside = inside && v.z >= 0.0 && v.z <= v.w && v.w > 0.0;
+            glm::dvec4 poly[12];
+            const int n = dt::clip(cd, poly);
+            if (!inside && n >= 3) ++trianglesClipped;
+            for (int i = 1; i + 1 < n; ++i) {
+                const glm::dvec4 fan[3] = {poly[0], poly[i], poly[i + 1]};
+                dt::Triangle t;
+                if (!dt::makeTriangle(fan, double(w), double(h), item.frontCounterClockwise, t)) continue;
+                if (!material.doubleSided && !t.front) continue;  // cull back
+                const std::int64_t minX = std::min({t.x[0], t.x[1], t.x[2]}), maxX = std::max({t.x[0], t.x[1], t.x[2]});
+                const std::int64_t minY = std::min({t.y[0], t.y[1], t.y[2]}), maxY = std::max({t.y[0], t.y[1], t.y[2]});
+                // pixel centres px * 256 + 128 in [min, max]
+                const auto lo = [](std::int64_t v) { return v - 128 >= 0 ? (v - 128 + 255) / 256 : -((128 - v) / 256); };
+                const auto hi = [](std::int64_t v) { return v - 128 >= 0 ? (v - 128) / 256 : -((128 - v + 255) / 256); };
+                const std::int64_t x0 = std::max<std::int64_t>(0, lo(minX)), x1 = std::min<std::int64_t>(w - 1, hi(maxX));
+                const std::int64_t y0 = std::max<std::int64_t>(0, lo(minY)), y1 = std::min<std::int64_t>(h - 1, hi(maxY));
+                for (std::int64_t py = y0; py <= y1; ++py)
+                    for (std::int64_t px = x0; px <= x1; ++px) {
+                        double z;
+                        if (!dt::depthAt(t, px, py, z)) continue;
+                        const std::uint32_t code = dt::d24(std::min(std::max(z, 0.0), 1.0));
+                        const std::size_t p = std::size_t(py) * w + std::size_t(px);
+                        if (code < truth[p]) {
+                            truth[p] = code;
+                            winner[p] = {std::int32_t(k), tri, !inside};
+                        }
+                    }
+            }
+        }
+    }
+    // Classes by |tessera - GL|: 0, 1, 2..16, > 16; within each, each side's distance from the truth.
+    const auto bucket = [](std::int64_t d) { d = d < 0 ? -d : d; return d == 0 ? 0 : d == 1 ? 1 : d <= 16 ? 2 : 3; };
+    const char* names[4] = {"0", "1", "2-16", ">16"};
+    std::uint64_t classCount[4] = {}, tessErr[4][4] = {}, glErr[4][4] = {}, clippedIn[4] = {}, coveredTruth[4] = {};
+    std::int64_t tessMax = 0, glMax = 0;
+    std::FILE* csv = csvPath.empty() ? nullptr : std::fopen(csvPath.c_str(), "w");
+    if (!csvPath.empty() && !csv) throw std::runtime_error("cannot write " + csvPath);
+    if (csv)
+        std::fprintf(csv, "x,y,tessera,gl,truth,item,triangle,clipped,area_px2,dzdx_codes,dzdy_codes,a0,llvmpipe_model,"
+                          "x0,y0,z0,x1,y1,z1,x2,y2,z2,clip0,clip1,clip2\n");
+    std::uint64_t modelMatches = 0, modelTried = 0;
+    for (std::uint32_t y = 0; y < h; ++y)
+        for (std::uint32_t x = 0; x < w; ++x) {
+            const std::size_t p = std::size_t(y) * w + x;
+            const std::int64_t a = tess.depthCode[p], b = gl.depthCode[p], t = truth[p];
+            const int cls = bucket(a - b);
+            ++classCount[cls];
+            ++tessErr[cls][bucket(a - t)];
+            ++glErr[cls][bucket(b - t)];
+            tessMax = std::max(tessMax, std::abs(a - t));
+            glMax = std::max(glMax, std::abs(b - t));
+            if (winner[p].item >= 0) ++coveredTruth[cls];
+            if (winner[p].clipped) ++clippedIn[cls];
+            const bool interesting = std::abs(a - t) > 1 || std::abs(b - t) > 16 || std::abs(a - b) > 16;
+            if (!interesting || !csv || winner[p].item < 0) continue;
+            const Winner& win = winner[p];
+            glm::vec4 cf[3];
+            triangleClip(res.drawItems()[std::size_t(win.item)], win.triangle, cf);
+            const glm::dvec4 cd[3] = {glm::dvec4(cf[0]), glm::dvec4(cf[1]), glm::dvec4(cf[2])};
+            dt::Triangle tri;
+            const bool whole = dt::makeTriangle(cd, double(w), double(h), true, tri);
+            double dzdx = 0.0, dzdy = 0.0;
+            if (whole) {  // the plane's gradients in codes per pixel
+                const double x1 = double(tri.x[1] - tri.x[0]) / 256.0, y1 = double(tri.y[1] - tri.y[0]) / 256.0;
+                const double x2 = double(tri.x[2] - tri.x[0]) / 256.0, y2 = double(tri.y[2] - tri.y[0]) / 256.0;
+                const double z1 = tri.z[1] - tri.z[0], z2 = tri.z[2] - tri.z[0], det = x1 * y2 - x2 * y1;
+                dzdx = (z1 * y2 - z2 * y1) / det * 16777215.0;
+                dzdy = (x1 * z2 - x2 * z1) / det * 16777215.0;
+            }
+            float a0 = 0.0f;
+            long long model = -1;
+            if (!win.clipped) {
+                model = llvmpipeModel(cf, float(w), float(h), x, y, nullptr, &a0);
+                ++modelTried;
+                if (std::llabs(model - b) <= 1) ++modelMatches;
+            }
+            std::fprintf(csv, "%u,%u,%lld,%lld,%lld,%d,%u,%d,%.6g,%.6g,%.6g,%.9g,%lld", x, y, (long long)a, (long long)b,
+                         (long long)t, win.item, win.triangle, int(win.clipped), double(tri.area2) / 131072.0, dzdx, dzdy,
+                         double(a0), model);
+            for (int i = 0; i < 3; ++i)
+                std::fprintf(csv, ",%.4f,%.4f,%.9f", double(tri.x[i]) / 256.0, double(tri.y[i]) / 256.0, tri.z[i]);
+            for (int i = 0; i < 3; ++i)  // the vertex shader's float clip position, exactly (hex floats)
+                std::fprintf(csv, ",%a %a %a %a", double(cf[i].x), double(cf[i].y), double(cf[i].z), double(cf[i].w));
+            std::fprintf(csv, "\n");
+        }
+    if (csv) std::fclose(csv);
+    std::printf("\n## Depth against the double-precision truth: %s, %u thread(s) (%llu opaque triangles clipped)\n\n",
+                c.id.c_str(), threads, (unsigned long long)trianglesClipped);
+    std::printf("| \\|tessera - GL\\| codes | pixels | truth covered | winner clipped | tessera - truth 0 / 1 / 2-16 / >16 | "
+                "GL - truth 0 / 1 / 2-16 / >16 |\n|---|---:|---:|---:|---|---|\n");
+    for (int k = 0; k < 4; ++k)
+        std::printf("| %s | %llu | %llu | %llu | %llu / %llu / %llu / %llu | %llu / %llu / %llu / %llu |\n", names[k],
+                    (unsigned long long)classCount[k], (unsigned long long)coveredTruth[k], (unsigned long long)clippedIn[k],
+                    (unsigned long long)tessErr[k][0], (unsigned long long)tessErr[k][1], (unsigned long long)tessErr[k][2],
+                    (unsigned long long)tessErr[k][3], (unsigned long long)glErr[k][0], (unsigned long long)glErr[k][1],
+                    (unsigned long long)glErr[k][2], (unsigned long long)glErr[k][3]);
+    std::printf("\nmax |tessera - truth| %lld codes, max |GL - truth| %lld codes; llvmpipe's float plane model "
+                "(unclipped winners of the listed pixels) within 1 code of GL at %llu of %llu\n",
+                (long long)tessMax, (long long)glMax, (unsigned long long)modelMatches, (unsigned long long)modelTried);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -606,6 +795,9 @@ int main(int argc, char** argv) {
                 const RunResult& lp = labels.gpu ? gpu : llvmpipe;
                 Row row{c, threads, tess.timings, lp.timings, lp.wallTimings, compare(tess.image, lp.image)};
                 compareLists(tess.lists, lp.lists, row.diff);
+                if (!opt.depthAnalysis.empty())
+                    depthAnalysis(*scene, c, threads, tess.image, lp.image,
+                                  opt.depthAnalysis + (configs.size() > 1 ? "." + c.id : std::string()));
                 if (!opt.dumpDir.empty())
                     dumpImages(opt.dumpDir, c.id + "-t" + std::to_string(threads), tess.image, lp.image, glName);
                 rows.push_back(std::move(row));
