@@ -22,9 +22,11 @@ namespace {
 // The quad z = 0, x and y in [-2, 2] (world units); the camera at (0, 0, -5) looks at the origin
 // along +Z, so it sees the side the -Z normal points to.
 constexpr float kEyeZWorld = -5.0f;
-// A point light on the viewer's side, off the axis so N.L is neither 0 nor 1 (world units).
-constexpr glm::vec3 kLightPosWorld{0.5f, 1.0f, -2.0f};
-constexpr float kLightRange = 20.0f;  // world units: every pixel of the quad well inside
+// A point light on the viewer's side, off the axis so N.L is neither 0 nor 1 (world units). Its
+// range keeps the eye (4.15 away) outside its volume, which deferred-killzone (ERRATA #6) and the
+// Cookbook's default volume culling need to light anything; it reaches most of the quad.
+constexpr glm::vec3 kLightPosWorld{0.5f, 1.0f, -1.0f};
+constexpr float kLightRange = 3.5f;  // world units
 
 enum class Build {
     Back,      // normal +Z, counter-clockwise seen from +Z: the camera sees its back face
@@ -75,7 +77,7 @@ std::vector<Case> everyTechnique() {
             {"deferred", nlohmann::json::object()},
             {"deferred-killzone", nlohmann::json::object()},
             {"tiled-deferred", nlohmann::json::object()},
-            {"deferred-cookbook", nlohmann::json::object()},
+            {"deferred-cookbook", {{"volumeCull", "front"}}},  // ERRATA #23: the table's CULL_BACK lights nothing inside the volume
             {"deferred-classic", nlohmann::json::object()},
             {"deferred-classic", {{"gbuffer", "optimized"}, {"normalEncoding", "safe"}}},  // ERRATA #29: printed is NaN at N = view Z
             {"light-prepass", nlohmann::json::object()},
@@ -96,7 +98,8 @@ long long lightIn(const Surface& s) {
 TEST_CASE("double-sided: a back face is lit as the mirrored normal, in every technique and precision") {
     for (const Case& c : everyTechnique()) {
         for (const Precision precision : {Precision::Exact, Precision::Fast, Precision::Reference}) {
-            CAPTURE(c.technique);
+            const std::string technique = c.technique;
+            CAPTURE(technique);
             CAPTURE(c.options.dump());
             CAPTURE(int(precision));
             Rendered back, mirroredKept, front, backKept;
@@ -164,7 +167,7 @@ TEST_CASE("double-sided: the N.L recorded at a back-face pixel is the geometric 
     const double xWorld = -xNdc * tanHalf * aspect * double(-kEyeZWorld);
     const double yWorld = yNdc * tanHalf * double(-kEyeZWorld);
     const glm::dvec3 toLight = glm::dvec3(kLightPosWorld) - glm::dvec3(xWorld, yWorld, 0.0);
-    const double nDotLExpected = -toLight.z / glm::length(toLight);  // = 2 / |L - P|
+    const double nDotLExpected = -toLight.z / glm::length(toLight);  // = 1 / |L - P|
     MESSAGE("N.L expected at (40, 30): " << nDotLExpected);
 
     // The techniques whose light loops record their terms (tessera probe): the 3dgep loop
@@ -177,7 +180,8 @@ TEST_CASE("double-sided: the N.L recorded at a back-face pixel is the geometric 
                           {"forward-plus-amd", nlohmann::json::object()}};
     for (const Case& c : cases) {
         for (const bool reverse : {true, false}) {
-            CAPTURE(c.technique);
+            const std::string technique = c.technique;
+            CAPTURE(technique);
             CAPTURE(reverse);
             TestScene scene = t;
             if (!reverse) keepNormals(scene);
@@ -203,6 +207,9 @@ TEST_CASE("double-sided: the N.L recorded at a back-face pixel is the geometric 
                     // P interpolated within 1e-4 world units of its ray: 2e-3 px at 0.04 units/px)
                     // puts N.L within 1e-4 / |L - P| = 5e-5 of the double value; 2e-4 leaves margin.
                     const double expected = reverse ? nDotLExpected : -nDotLExpected;
+                    // Unreversed, the light is behind the surface; a loop that stops there may
+                    // record no N.L (NaN), which is only the probe's record.
+                    if (!reverse && std::isnan(term.nDotL)) continue;
                     CHECK(std::abs(double(term.nDotL) - expected) < 2e-4);
                 }
             CHECK(terms >= 1);

@@ -376,7 +376,7 @@ TEST_CASE("glTF rules: orthographic xmag / ymag and a perspective aspectRatio se
     }
 }
 
-TEST_CASE("glTF rules: tangent w = -1 flips the bitangent; generated tangents read the green channel inverted unless corrected (glTF 2.0 §3.7.2.1, §3.9.3)") {
+TEST_CASE("glTF rules: tangent w = -1 flips the bitangent, generated tangents read the green channel inverted unless corrected (glTF 2.0 §3.7.2.1, §3.9.3)") {
     // A 1 x 1 normal map with codes (128, 204, 255): tangent-space n = code / 255 x 2 - 1 =
     // (1/255, 0.6, 1) (glTF 2.0 §3.9.3: +Y up in the image). The quad's frame is T = +X, N = +Z,
     // B = cross(N, T) x w = w x +Y. Mapped N = normalize(n.x T + n.y B + n.z N). A directional
