@@ -129,6 +129,9 @@ options:
   --no-output       render but write no file (timing and --stats only); not with --out or --dump
   --no-default-lights  a scene without any light stays unlit under a lighting technique (by default
                     it gets a key and a fill point light from the camera, announced on stderr)
+  --double-sided-normals reverse|keep  back faces of double-sided glTF materials: lit with the normal
+                    and tangent frame reversed, as glTF 2.0 §3.9.5 requires (reverse, default), or with
+                    the front face's normal (keep: such back faces come out unlit, for comparison)
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
@@ -628,6 +631,12 @@ int render(const std::vector<std::string_view>& args) {
     progress.update("loading " + sceneFile.filename().string(), 0, 0);
     tessera::Camera camera;
     tessera::Scene scene = tessera::loadScene(desc, true, &camera);
+    if (o.keepBackFaceNormals) {
+        const bool anyDoubleSided = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                                [](const tessera::Material& m) { return m.doubleSided; });
+        if (!anyDoubleSided) warn("--double-sided-normals: " + sceneFile.string() + " has no double-sided material; the flag changes nothing");
+        for (tessera::Material& m : scene.materials) m.reverseBackFaceNormals = false;
+    }
     // A scene with no lights at all gets the default rig under a lighting technique (preview has
     // its own head light), announced, unless --no-default-lights.
     if (scene.lights.empty() && desc.technique != "preview" && !o.noDefaultLights) {

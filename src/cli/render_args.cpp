@@ -82,6 +82,12 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         } else if (a == "--no-output") o.noOutput = true;
         else if (a == "--scalar-raster") o.device.simdBlocks = false;
         else if (a == "--no-default-lights") o.noDefaultLights = true;
+        else if (a == "--double-sided-normals") {
+            const std::string_view mode = value();
+            if (mode == "reverse") o.keepBackFaceNormals = false;
+            else if (mode == "keep") o.keepBackFaceNormals = true;
+            else throw UsageError("--double-sided-normals: '" + std::string(mode) + "' is not reverse or keep");
+        }
         else if (a == "--exr") {
             o.exrTypeGiven = true;
             const std::string_view t = value();

@@ -54,6 +54,9 @@ struct RenderOptions {
     std::uint32_t repeat = 1, warmup = 0;
     std::optional<double> memoryLimitGiB;  // --memory-limit; default: frame/memory_limit.h
     bool stats = false, quiet = false, noOutput = false, outGiven = false, exrTypeGiven = false, noDefaultLights = false;
+    // --double-sided-normals keep: back faces of double-sided glTF materials keep the unreversed
+    // normal (glTF 2.0 §3.9.5 reverses it: the default, reverse), for comparison.
+    bool keepBackFaceNormals = false;
     Progress::Mode progress = Progress::Mode::Auto;
 };
 

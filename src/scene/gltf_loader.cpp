@@ -383,7 +383,10 @@ std::uint32_t duplicateVertex(MeshPrimitive& prim, std::uint32_t v) {
 // also splits vertices whose accumulated frames diverge by angle thresholds, and gives
 // UV-degenerate triangles their neighbours' tangents (here: such vertices get any unit
 // vector perpendicular to N, w = +1).
-void generateTangents(MeshPrimitive& prim, const std::vector<glm::vec2>& uvs) {
+// bitangentUp (GltfLoadOptions::generatedBitangentUp, ERRATA #33): B = -dP/dv instead, the
+// direction of decreasing v, which is "up" in the image (glTF 2.0 §3.8, Texture Data: the UV origin is the image's top-left;
+// §3.9.3: the normal texture's +Y is up), so w comes out negated.
+void generateTangents(MeshPrimitive& prim, const std::vector<glm::vec2>& uvs, bool bitangentUp) {
     struct Accumulated {
         glm::vec3 tangent{0.0f}, bitangent{0.0f};
         bool used = false;
@@ -452,7 +455,7 @@ void generateTangents(MeshPrimitive& prim, const std::vector<glm::vec2>& uvs) {
         t /= length;
         const float handedness = glm::dot(glm::cross(n, t), slot.bitangent);
         const float w = handedness < 0.0f ? -1.0f : handedness > 0.0f ? 1.0f : (mirroredSlot ? -1.0f : 1.0f);
-        prim.tangentsObject[vertex] = glm::vec4(t, w);
+        prim.tangentsObject[vertex] = glm::vec4(t, bitangentUp ? -w : w);
     };
     for (std::size_t v = 0; v < vertexCount; ++v) {
         const Accumulated& preserving = accumulated[v * 2];
@@ -1335,7 +1338,7 @@ private:
             const std::vector<glm::vec2>& uvs = uvSet == 1 ? prim.texCoords1 : prim.texCoords0;
             if (!uvs.empty()) {
                 const std::vector<glm::vec2> uvCopy = uvs;  // generateTangents may append vertices
-                generateTangents(prim, uvCopy);
+                generateTangents(prim, uvCopy, mOptions.generatedBitangentUp);
             }
         }
         return prim;

@@ -45,6 +45,7 @@ PhongMaterial phongFromGltf(const Material& material) {
 
     phong.normalTexture = material.normalTexture;
     phong.doubleSided = material.doubleSided;
+    phong.reverseBackFaceNormals = reversesBackFaceNormals(material);
 
     switch (mode) {
     case AlphaMode::Opaque:

@@ -243,6 +243,7 @@ PhongShaderData<T> makePhongShaderData(const PhongMaterial& m, const PhongTextur
     d.specularScale = T(m.specularScale);
     d.alphaThreshold = T(m.alphaThreshold);
     d.ignoreDiffuseAlpha = m.ignoreDiffuseAlpha;
+    d.reverseBackFaceNormals = m.reverseBackFaceNormals;
     d.ambientTexture = textures.bind(m.ambientTexture);
     d.emissiveTexture = textures.bind(m.emissiveTexture);
     d.diffuseTexture = textures.bind(m.diffuseTexture);

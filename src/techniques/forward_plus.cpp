@@ -802,6 +802,7 @@ struct PrepassPS {
     static constexpr bool kMayDiscard = kAlphaTest;
     PhongShadeFn<float> shade = nullptr;
     const PhongShaderData<float>* data = nullptr;
+    bool reverseBackFaceNormals = false;  // glTF 2.0 §3.9.5 (facingVaryings)
     void operator()(const PixelInput<PhongVaryings>& in, PixelOutput<kTargetCount>& out) const {
         if constexpr (kAlphaTest) {
             Vec4<float> color;
@@ -810,7 +811,10 @@ struct PrepassPS {
                 return;
             }
         }
-        if constexpr (kNormal) out.target[0] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
+        if constexpr (kNormal) {
+            const glm::vec3 normalWorld = facingVaryings(in.varyings, in.isFrontFace, reverseBackFaceNormals).normalView;
+            out.target[0] = glm::vec4(hlsl::normalize(normalWorld), 1.0f);
+        }
     }
 };
 
@@ -838,8 +842,9 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
         DrawStats s;
         if (normalWorld) {
             const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
-            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, true>{variant.exact, &data})
-                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<false, true>{});
+            const bool reverse = material.reverseBackFaceNormals;
+            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, true>{variant.exact, &data, reverse})
+                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<false, true>{nullptr, nullptr, reverse});
         } else if (variant.mayDiscard) {
             const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
             s = device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, false>{variant.exact, &data});

@@ -344,7 +344,9 @@ struct AmdScenePS {
             }
         }
         const Vec3<T> posWorld(in.varyings.posView);
-        const Vec3<T> normalWorld = hlsl::normalize(Vec3<T>(in.varyings.normalView));
+        // glTF 2.0 §3.9.5: a double-sided material's back face is lit with the reversed normal.
+        const glm::vec3 normalWorldFacing = facingVaryings(in.varyings, in.isFrontFace, material->reverseBackFaceNormals).normalView;
+        const Vec3<T> normalWorld = hlsl::normalize(Vec3<T>(normalWorldFacing));
         const Vec3<T> viewDir = amdViewDir(Vec3<T>(shade.state->cameraPosWorld), posWorld);
 
         // GetTileIndex: floor(x / 8) + floor(y / 8) * numTilesX.
@@ -480,7 +482,8 @@ struct RsmPS {
         glm::vec4 diffuseTex = material->diffuseColor;
         if (material->diffuseTexture.bound()) diffuseTex = phong_detail::textureRule(diffuseTex, material->diffuseTexture.sample(in));
         out.target[0] = glm::vec4(in.varyings.posView, 1.0f);
-        out.target[1] = glm::vec4(hlsl::normalize(in.varyings.normalView), 1.0f);
+        // glTF 2.0 §3.9.5: a double-sided back face seen by the light reflects along its reversed normal.
+        out.target[1] = glm::vec4(hlsl::normalize(facingVaryings(in.varyings, in.isFrontFace, material->reverseBackFaceNormals).normalView), 1.0f);
         out.target[2] = glm::vec4(glm::vec3(diffuseTex) * lightColor, 1.0f);
     }
 };

@@ -34,6 +34,14 @@ struct Material {
     AlphaMode alphaMode = AlphaMode::Opaque;
     float alphaCutoff = 0.5f;             // MASK only
     bool doubleSided = false;
+    // glTF 2.0 §3.9.5 (Double Sided): back faces of a double-sided material are shaded with their
+    // normals reversed. false keeps the interpolated normal on back faces (`tessera render
+    // --double-sided-normals keep`), for comparison only; read through reversesBackFaceNormals.
+    bool reverseBackFaceNormals = true;
 };
+
+// Whether a pixel shader negates the normal and tangent frame of `m`'s back faces (SV_IsFrontFace
+// false): only double-sided materials have visible back faces (single-sided ones are culled).
+inline bool reversesBackFaceNormals(const Material& m) { return m.doubleSided && m.reverseBackFaceNormals; }
 
 } // namespace tessera

@@ -36,6 +36,8 @@ struct PhongMaterial {
     // multiplying by opacity and testing alphaThreshold), as glTF 2.0 §3.9.4 requires.
     bool ignoreDiffuseAlpha = false;
     bool doubleSided = false;          // glTF doubleSided (the demo culls back faces of opaque geometry)
+    // glTF 2.0 §3.9.5: back faces are shaded with N, T and B negated (reversesBackFaceNormals).
+    bool reverseBackFaceNormals = false;
 
     // The demo's Material::IsTransparent(): opacity < 1, an opacity texture, a diffuse texture
     // with alpha, or alphaThreshold <= 0. Transparent materials are drawn in the blended pass.

@@ -142,6 +142,7 @@ struct PhongShaderData {
     Vec4<T> globalAmbient, ambientColor, emissiveColor, diffuseColor, specularColor;
     T opacity = T(1), specularPower = T(-1), bumpIntensity = T(5), specularScale = T(128), alphaThreshold = T(0.1);
     bool ignoreDiffuseAlpha = false;  // glTF OPAQUE: alpha = 1 before x Opacity (phong_material.h)
+    bool reverseBackFaceNormals = false;  // glTF 2.0 §3.9.5: back faces negate N, T, B (facingVaryings)
     BoundTexture ambientTexture, emissiveTexture, diffuseTexture, specularTexture, specularPowerTexture, normalTexture,
         bumpTexture, opacityTexture;
     std::span<const ViewLight<T>> lights;
@@ -150,6 +151,21 @@ struct PhongShaderData {
     // Precision fast, every light (no tile list): the SIMD light loop over these (fast_lighting.h).
     const FastLightSet* fastLights = nullptr;
 };
+
+// The tangent frame a pixel shader lights with (glTF 2.0 §3.9.5, Double Sided: "back-facing sides
+// ... have their normals reversed before the lighting equation is evaluated"): on a back face
+// (SV_IsFrontFace false) of a material with `reverse`, normalView, tangentView and binormalView
+// negated, so the normal-mapped N = T x + B y + N z is negated as a whole (and the bump-mapped one
+// too); every other case (every front face, every single-sided material) the varyings unchanged.
+// Negation is exact, so a reversed back face shades exactly as the mirrored normal would.
+inline PhongVaryings facingVaryings(const PhongVaryings& v, bool isFrontFace, bool reverse) {
+    if (isFrontFace || !reverse) return v;
+    PhongVaryings r = v;
+    r.normalView = -v.normalView;
+    r.tangentView = -v.tangentView;
+    r.binormalView = -v.binormalView;
+    return r;
+}
 
 // Returns false when the pixel is discarded; otherwise `color` is PS_main's return value.
 template <class T>

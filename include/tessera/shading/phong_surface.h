@@ -80,7 +80,8 @@ template <class T, std::uint32_t F>
 bool gatherPhongSurface(const PhongShaderData<T>& d, const PixelInput<PhongVaryings>& in, PhongSurface<T>& s) {
     using namespace phong_detail;
     const auto texel = [&](const BoundTexture& slot) { return Vec4<T>(slot.sample(in)); };
-    const PhongVaryings& v = in.varyings;
+    // The tangent frame this face is lit with (glTF 2.0 §3.9.5: reversed on double-sided back faces).
+    const PhongVaryings v = facingVaryings(in.varyings, in.isFrontFace, d.reverseBackFaceNormals);
 
     // Diffuse, alpha (and the optional cut-out) first: a discarded pixel needs nothing else.
     Vec4<T> diffuse = d.diffuseColor;
