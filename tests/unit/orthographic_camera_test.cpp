@@ -84,7 +84,7 @@ TEST_CASE("orthographic camera with near 0: every ortho-capable technique render
         if (!info.build || std::string_view(info.id) == "tiled-deferred") continue;
         CAPTURE(info.id);
         Rendered r;
-        render(t, info.id, nlohmann::json::object(), r);
+        render(t, std::string(info.id), nlohmann::json::object(), r);
         CHECK(pixelsWithGeometry(r.get("depth")) > kWidth * kHeight / 2);
     }
     // The corrected culling keeps every light (the extremes catalogue's equalities).
