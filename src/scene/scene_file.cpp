@@ -546,50 +546,67 @@ public:
     bool number_float(number_float_t, const string_t&) override { return elementDone(); }
     bool string(string_t&) override { return elementDone(); }
     bool binary(binary_t&) override { return elementDone(); }
-    bool start_object(std::size_t) override {
-        mStack.push_back({true, childPath(), 0, {}, {}});
-        return true;
-    }
+    bool start_object(std::size_t) override { return open(true); }
     bool key(string_t& name) override {
-        Level& top = mStack.back();
-        if (!top.keys.insert(name).second)
-            mReader.fail(Reader::at(top.path, name), "duplicate key \"" + name + "\" (an earlier value would be silently replaced)");
+        Level& top = mStack[mDepth - 1];
+        bool repeated = false;
+        if (top.many.empty()) {
+            repeated = std::find(top.keys.begin(), top.keys.end(), name) != top.keys.end();
+            if (!repeated) top.keys.push_back(name);
+            if (top.keys.size() > kLinearKeys) top.many.insert(top.keys.begin(), top.keys.end());
+        } else {
+            repeated = !top.many.insert(name).second;
+        }
+        if (repeated)
+            mReader.fail(Reader::at(pointer(), name), "duplicate key \"" + name + "\" (an earlier value would be silently replaced)");
         top.key = name;
         return true;
     }
-    bool end_object() override {
-        mStack.pop_back();
-        return elementDone();
-    }
-    bool start_array(std::size_t) override {
-        mStack.push_back({false, childPath(), 0, {}, {}});
-        return true;
-    }
-    bool end_array() override {
-        mStack.pop_back();
-        return elementDone();
-    }
+    bool end_object() override { return close(); }
+    bool start_array(std::size_t) override { return open(false); }
+    bool end_array() override { return close(); }
     bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
 
 private:
+    // Objects with up to kLinearKeys keys (every light, model and camera) are checked by a
+    // linear search, larger ones (an "options" object with thousands of keys) through a hash
+    // set: linear in the text either way.
+    static constexpr std::size_t kLinearKeys = 16;
     struct Level {
-        bool object;
-        std::string path;                     // JSON pointer of this container
-        std::size_t index;                    // arrays: the next element's index
+        bool object = false;
+        std::size_t index = 0;                // arrays: the index of the element being read
         std::string key;                      // objects: the key being read
-        std::unordered_set<std::string> keys; // objects: keys seen so far
+        std::vector<std::string> keys;        // objects: keys seen so far (up to kLinearKeys)
+        std::unordered_set<std::string> many; // objects: keys seen so far, beyond kLinearKeys
     };
-    // The JSON pointer of the container about to open: built once per container, so the pass
-    // stays linear in the text (an array element's pointer is its parent's plus its index).
-    std::string childPath() const {
-        if (mStack.empty()) return "";
-        const Level& top = mStack.back();
-        return top.object ? Reader::at(top.path, top.key) : Reader::at(top.path, top.index);
-    }
-    bool elementDone() {
-        if (!mStack.empty() && !mStack.back().object) ++mStack.back().index;
+    // Levels are reused as the parser enters and leaves containers, so a file of a million light
+    // objects allocates a handful of times, not per object; the JSON pointer is built only for
+    // the error message (pointer()).
+    bool open(bool object) {
+        if (mDepth == mStack.size()) mStack.emplace_back();
+        Level& level = mStack[mDepth++];
+        level.object = object;
+        level.index = 0;
+        level.keys.clear();
+        if (!level.many.empty()) level.many = {};  // not clear(): that walks every bucket of a once-large set
         return true;
     }
+    bool close() {
+        --mDepth;
+        return elementDone();
+    }
+    bool elementDone() {
+        if (mDepth > 0 && !mStack[mDepth - 1].object) ++mStack[mDepth - 1].index;
+        return true;
+    }
+    // The JSON pointer of the innermost open container.
+    std::string pointer() const {
+        std::string path;
+        for (std::size_t i = 0; i + 1 < mDepth; ++i)
+            path = mStack[i].object ? Reader::at(path, mStack[i].key) : Reader::at(path, mStack[i].index);
+        return path;
+    }
+    std::size_t mDepth = 0;
     const Reader& mReader;
     std::vector<Level> mStack;
 };
