@@ -1115,7 +1115,7 @@ TEST_CASE("gltf KHR_lights_punctual: every defined light is checked, placed by a
         {"colour-negative", {{"type", "directional"}, {"color", {-0.25, 0.0, 0.0}}}, "/extensions/KHR_lights_punctual/lights/3/color/0",
          "-0.25 is outside [0, 1]"},
         {"colour-two-numbers", {{"type", "point"}, {"color", {1.0, 1.0}}}, "/extensions/KHR_lights_punctual/lights/3/color",
-         "needs 3 numbers, has 2"},
+         "must be an array of 3 numbers"},
         {"inner-equals-outer", {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.5}, {"outerConeAngle", 0.5}}}},
          "/extensions/KHR_lights_punctual/lights/3/spot/innerConeAngle", "outside [0, outerConeAngle"},
         {"inner-negative", {{"type", "spot"}, {"spot", {{"innerConeAngle", -0.1}, {"outerConeAngle", 0.5}}}},
@@ -1126,7 +1126,8 @@ TEST_CASE("gltf KHR_lights_punctual: every defined light is checked, placed by a
          "/extensions/KHR_lights_punctual/lights/3/spot/outerConeAngle", "outside (0, pi/2]"},
     };
     for (const Bad& c : cases) {
-        CAPTURE(c.name);
+        const std::string name = c.name;
+        CAPTURE(name);
         // Lights 0..2 are good, light 3 is the bad one, and only light 0 is placed by a node.
         GltfFile f = fileWithLights(json::array({good, good, good, c.light}), 0);
         expectInputError(f.write(std::string("khr-light-") + c.name + ".gltf"), {c.pointer, c.what});
