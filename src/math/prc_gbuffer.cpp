@@ -1,5 +1,6 @@
 // PR&C D3D11 ch. 11 G-buffer math (math/prc_gbuffer.h), in the listings' operation order.
 #include <tessera/math/prc_gbuffer.h>
+#include <tessera/math/projection_terms.h>
 
 #include <algorithm>
 #include <cmath>
@@ -39,7 +40,9 @@ glm::vec3 prcNormalFromXy(const glm::vec2& xy, bool positiveZ) {
 }
 
 PrcProjectionAB prcProjectionAB(float nearZ, float farZ) {
-    return {farZ / (farZ - nearZ), (-farZ * nearZ) / (farZ - nearZ)};
+    // (-Far * Near) / (Far - Near) = nearFarTerm(f, n, 1) bit for bit where f n is a normal
+    // float; finite beyond (math/projection_terms.h).
+    return {farZ / (farZ - nearZ), nearFarTerm(farZ, nearZ, 1.0f)};
 }
 
 float prcLinearDepth(float depth, const PrcProjectionAB& ab) { return ab.b / (depth - ab.a); }

@@ -321,12 +321,20 @@ std::vector<ModelRef> parseModels(const Reader& r, const Json& value, const std:
     return models;
 }
 
+// glTF 2.0 §5.14 camera.perspective.znear "> 0"; the perspective divide by view z and the
+// projection's n f / (f - n) need it. Orthographic cameras may take 0 (§5.13 ">= 0").
+constexpr const char* kPerspectiveNearZero =
+    "0 is not allowed for a perspective camera (near must be > 0; only an orthographic camera may take near 0)";
+
 void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
     const std::string path = "/camera";
     r.requireObject(value, path);
     r.checkKeys(value, path, {"position", "rotation", "target", "up", "gltf", "fovYDeg", "near", "far"});
     if (value.contains("fovYDeg")) d.cameraFovYDeg = r.numberIn(value["fovYDeg"], "/camera/fovYDeg", 0.0f, 180.0f, true, true);
-    if (value.contains("near")) d.cameraNearZ = r.positive(value["near"], "/camera/near");
+    // near 0 is kept here: an orthographic camera (from a glTF file) may take it (glTF 2.0
+    // §5.13 camera.orthographic.znear ">= 0"); a perspective one is refused where the camera is
+    // resolved (resolveCamera) and by checkFrameInputs.
+    if (value.contains("near")) d.cameraNearZ = r.nonNegative(value["near"], "/camera/near");
     if (value.contains("far")) d.cameraFarZ = r.positive(value["far"], "/camera/far");
     if (d.cameraNearZ && d.cameraFarZ && !(*d.cameraFarZ > *d.cameraNearZ))
         r.fail("/camera/far", formatNumber(*d.cameraFarZ) + " is not greater than near " + formatNumber(*d.cameraNearZ));
@@ -372,6 +380,7 @@ void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
     if (d.cameraFovYDeg) camera.fovYDeg = *d.cameraFovYDeg;
     if (d.cameraNearZ) camera.nearZ = *d.cameraNearZ;
     if (d.cameraFarZ) camera.farZ = *d.cameraFarZ;
+    if (!(camera.nearZ > 0.0f)) r.fail("/camera/near", kPerspectiveNearZero);
     if (!(camera.farZ > camera.nearZ))
         r.fail(d.cameraFarZ ? "/camera/far" : "/camera/near", "far " + formatNumber(camera.farZ) +
                                                                   " is not greater than near " + formatNumber(camera.nearZ));
@@ -520,50 +529,84 @@ namespace {
 
 // Duplicate keys: RFC 8259 §4 says names within an object SHOULD be unique and leaves the
 // meaning open; nlohmann keeps the last one, so a scene file's earlier value would be dropped in
-// silence. The parse callback follows the parser's containers and refuses a repeated key, naming
-// its JSON pointer.
-class DuplicateKeyCheck {
+// silence. A SAX pass ahead of the DOM parse follows the containers and refuses a repeated key,
+// naming its JSON pointer. (It used to be Json::parse's callback, but nlohmann 3.11's callback
+// parser scans the whole parent container for a discarded value after every object it closes
+// (json_sax_dom_callback_parser::end_object): quadratic in an array of objects, 14 s for 270,000
+// lights. This pass and the plain parse are each linear.) A syntax error stops the pass (false),
+// and the DOM parse that follows reports it as before.
+class DuplicateKeyCheck : public nlohmann::json_sax<Json> {
 public:
     explicit DuplicateKeyCheck(const Reader& reader) : mReader(reader) {}
 
-    bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
-        switch (event) {
-        case Json::parse_event_t::object_start: mStack.push_back({true, childPath(), 0, {}, {}}); break;
-        case Json::parse_event_t::array_start: mStack.push_back({false, childPath(), 0, {}, {}}); break;
-        case Json::parse_event_t::key: {
-            Level& top = mStack.back();
-            const std::string& key = parsed.get_ref<const std::string&>();
-            if (!top.keys.insert(key).second)
-                mReader.fail(Reader::at(top.path, key), "duplicate key \"" + key + "\" (an earlier value would be silently replaced)");
-            top.key = key;
-            break;
+    bool null() override { return elementDone(); }
+    bool boolean(bool) override { return elementDone(); }
+    bool number_integer(number_integer_t) override { return elementDone(); }
+    bool number_unsigned(number_unsigned_t) override { return elementDone(); }
+    bool number_float(number_float_t, const string_t&) override { return elementDone(); }
+    bool string(string_t&) override { return elementDone(); }
+    bool binary(binary_t&) override { return elementDone(); }
+    bool start_object(std::size_t) override { return open(true); }
+    bool key(string_t& name) override {
+        Level& top = mStack[mDepth - 1];
+        bool repeated = false;
+        if (top.many.empty()) {
+            repeated = std::find(top.keys.begin(), top.keys.end(), name) != top.keys.end();
+            if (!repeated) top.keys.push_back(name);
+            if (top.keys.size() > kLinearKeys) top.many.insert(top.keys.begin(), top.keys.end());
+        } else {
+            repeated = !top.many.insert(name).second;
         }
-        case Json::parse_event_t::object_end:
-        case Json::parse_event_t::array_end:
-            mStack.pop_back();
-            elementDone();
-            break;
-        case Json::parse_event_t::value: elementDone(); break;
-        }
+        if (repeated)
+            mReader.fail(Reader::at(pointer(), name), "duplicate key \"" + name + "\" (an earlier value would be silently replaced)");
+        top.key = name;
         return true;
     }
+    bool end_object() override { return close(); }
+    bool start_array(std::size_t) override { return open(false); }
+    bool end_array() override { return close(); }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
 
 private:
+    // Objects with up to kLinearKeys keys (every light, model and camera) are checked by a
+    // linear search, larger ones (an "options" object with thousands of keys) through a hash
+    // set: linear in the text either way.
+    static constexpr std::size_t kLinearKeys = 16;
     struct Level {
-        bool object;
-        std::string path;                     // JSON pointer of this container
-        std::size_t index;                    // arrays: the next element's index
+        bool object = false;
+        std::size_t index = 0;                // arrays: the index of the element being read
         std::string key;                      // objects: the key being read
-        std::unordered_set<std::string> keys; // objects: keys seen so far
+        std::vector<std::string> keys;        // objects: keys seen so far (up to kLinearKeys)
+        std::unordered_set<std::string> many; // objects: keys seen so far, beyond kLinearKeys
     };
-    std::string childPath() const {
-        if (mStack.empty()) return "";
-        const Level& top = mStack.back();
-        return top.object ? Reader::at(top.path, top.key) : Reader::at(top.path, top.index);
+    // Levels are reused as the parser enters and leaves containers, so a file of a million light
+    // objects allocates a handful of times, not per object; the JSON pointer is built only for
+    // the error message (pointer()).
+    bool open(bool object) {
+        if (mDepth == mStack.size()) mStack.emplace_back();
+        Level& level = mStack[mDepth++];
+        level.object = object;
+        level.index = 0;
+        level.keys.clear();
+        if (!level.many.empty()) level.many = {};  // not clear(): that walks every bucket of a once-large set
+        return true;
     }
-    void elementDone() {
-        if (!mStack.empty() && !mStack.back().object) ++mStack.back().index;
+    bool close() {
+        --mDepth;
+        return elementDone();
     }
+    bool elementDone() {
+        if (mDepth > 0 && !mStack[mDepth - 1].object) ++mStack[mDepth - 1].index;
+        return true;
+    }
+    // The JSON pointer of the innermost open container.
+    std::string pointer() const {
+        std::string path;
+        for (std::size_t i = 0; i + 1 < mDepth; ++i)
+            path = mStack[i].object ? Reader::at(path, mStack[i].key) : Reader::at(path, mStack[i].index);
+        return path;
+    }
+    std::size_t mDepth = 0;
     const Reader& mReader;
     std::vector<Level> mStack;
 };
@@ -579,9 +622,8 @@ SceneDescription parseSceneJson(const std::string& text, const std::filesystem::
     Json root;
     try {
         DuplicateKeyCheck duplicates(r);
-        root = Json::parse(text, [&duplicates](int depth, Json::parse_event_t event, Json& parsed) {
-            return duplicates(depth, event, parsed);
-        });
+        (void)Json::sax_parse(text, &duplicates);  // throws InputError on a repeated key; false on a syntax error
+        root = Json::parse(text);
     } catch (const Json::parse_error& e) {
         r.fail("", "invalid JSON (byte " + std::to_string(e.byte) + "): " + withoutExceptionPrefix(e.what()));
     } catch (const Json::exception& e) {
@@ -721,6 +763,8 @@ Camera resolveCamera(const SceneDescription& d, const Scene& scene) {
     if (d.cameraFovYDeg) camera.fovYDeg = *d.cameraFovYDeg;
     if (d.cameraNearZ) camera.nearZ = *d.cameraNearZ;
     if (d.cameraFarZ) camera.farZ = *d.cameraFarZ;
+    if (camera.projection == ProjectionKind::Perspective && !(camera.nearZ > 0.0f))
+        throw inputError(d.file.string(), "/camera/near", kPerspectiveNearZero);
     if (!(camera.farZ > camera.nearZ))
         throw inputError(d.file.string(), d.cameraFarZ ? "/camera/far" : "/camera/near",
                          "far " + formatNumber(camera.farZ) + " is not greater than near " + formatNumber(camera.nearZ));

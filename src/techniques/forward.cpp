@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <tessera/io/input_error.h>
+#include <tessera/math/projection_terms.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/technique_options.h>
 
@@ -63,11 +64,11 @@ glm::mat4 projection3dgep(const Camera& camera, float aspect, ProjectionConventi
     if (convention == ProjectionConvention::DemoGl) {
         // glm 0.9.6.3 perspective: -(f + n) / (f - n), -(2 f n) / (f - n); limits -1, -2n.
         p[2][2] = infinite ? -1.0f : -(f + n) / (f - n);
-        p[3][2] = infinite ? -2.0f * n : -(2.0f * f * n) / (f - n);
+        p[3][2] = infinite ? -2.0f * n : nearFarTerm(f, n, 2.0f);  // -(2 f n) / (f - n), finite at any world scale
     } else {
         // perspectiveRH_ZO: f / (n - f), -(f n) / (f - n); limits -1, -n.
         p[2][2] = infinite ? -1.0f : f / (n - f);
-        p[3][2] = infinite ? -n : -(f * n) / (f - n);
+        p[3][2] = infinite ? -n : nearFarTerm(f, n, 1.0f);  // -(f n) / (f - n), finite at any world scale
     }
     return p;
 }

@@ -150,8 +150,13 @@ void checkFrameInputs(const TechniqueContext& context, const std::string& sceneF
         return out.str();
     };
     // A normal float: below FLT_MIN the projection's n*f/(f - n) and its inverse lose every bit.
-    if (!(c.nearZ >= std::numeric_limits<float>::min()) || !std::isfinite(c.nearZ))
-        throw inputError(sceneFile, "/camera/near", number(c.nearZ) + " is not a positive normal binary32 number (>= 1.18e-38)");
+    // An orthographic camera may take exactly 0 (glTF 2.0 §5.13 camera.orthographic.znear ">= 0"):
+    // its depth (zView - n) / (f - n) (D3D11 / glm orthoRH_ZO) has no n in a denominator.
+    const bool orthographicZero = c.projection == ProjectionKind::Orthographic && c.nearZ == 0.0f;
+    if (!orthographicZero && (!(c.nearZ >= std::numeric_limits<float>::min()) || !std::isfinite(c.nearZ)))
+        throw inputError(sceneFile, "/camera/near",
+                         number(c.nearZ) + " is not a positive normal binary32 number (>= 1.18e-38)" +
+                             (c.nearZ == 0.0f ? "; only an orthographic camera may take near 0" : ""));
     if (!(c.farZ > c.nearZ))
         throw inputError(sceneFile, "/camera/far", "far " + number(c.farZ) + " is not greater than near " + number(c.nearZ));
     if (c.projection == ProjectionKind::Perspective && !(c.fovYDeg > 0.0f && c.fovYDeg < 180.0f))

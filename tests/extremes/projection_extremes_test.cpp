@@ -143,6 +143,33 @@ TEST_CASE("projection: orthographic with a 1e-4 wide view") {
     runCase("projection orthographic 1e-4", t, o);
 }
 
+TEST_CASE("projection: orthographic with near 0 (the eye on the near plane)") {
+    // glTF 2.0 §5.13 allows camera.orthographic.znear = 0: depth (zView - 0) / f, the tile planes
+    // through near corners on the eye plane (gridFrustumOrthographic) and far corners.
+    TestScene t = withNearFar(room(), 0.0f, 100.0f);
+    t.camera.projection = ProjectionKind::Orthographic;
+    t.camera.xMag = 8.0f;
+    t.camera.yMag = 6.0f;
+    CaseOptions o;
+    o.refused = {"tiled-deferred"};
+    runCase("projection orthographic near 0", t, o);
+}
+
+TEST_CASE("projection: orthographic with near 0 and far through the room") {
+    // far 11 cuts the floor: the far plane's clipping with the near plane on the eye.
+    TestScene t = withNearFar(room(), 0.0f, 11.0f);
+    t.camera.projection = ProjectionKind::Orthographic;
+    t.camera.xMag = 8.0f;
+    t.camera.yMag = 6.0f;
+    CaseOptions o;
+    o.refused = {"tiled-deferred"};
+    runCase("projection orthographic near 0 far 11", t, o);
+}
+
+TEST_CASE("projection: near 0 is refused for a perspective camera") {
+    expectRefused(withNearFar(room(), 0.0f, 100.0f), "only an orthographic camera may take near 0");
+}
+
 TEST_CASE("projection: infinite far plane") {
     // glTF's infinite perspective (zfar absent): far = +inf.
     TestScene t = withNearFar(room(), 0.1f, std::numeric_limits<float>::infinity());

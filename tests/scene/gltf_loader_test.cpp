@@ -956,6 +956,7 @@ TEST_CASE("gltf bad input: node cycles and shared children, bad references, came
             json::array({{{"type", "spot"}, {"spot", {{"innerConeAngle", 0.7}, {"outerConeAngle", 0.5}}}}});
         f.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
         expectInputError(f.write("bad-spot.gltf"), {"/extensions/KHR_lights_punctual/lights/0/spot/innerConeAngle"});
+        f.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["spot"]["innerConeAngle"] = 0.25;
         f.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 4;
         expectInputError(f.write("bad-light-ref.gltf"), {"/nodes/0/extensions/KHR_lights_punctual/light"});
     }
@@ -1082,4 +1083,89 @@ TEST_CASE("gltf bad input: asset.version other than 2.x and asset.minVersion abo
     GltfFile ok = quadFile();
     ok.doc["asset"] = {{"version", "2.1"}, {"minVersion", "2.0"}};
     CHECK(load(ok.write("asset-2.1.gltf")).meshes.size() == 1);
+}
+
+// KHR_lights_punctual README ("Light Shared Properties", "Range Property", "Spot Properties") and
+// its light.schema.json: every light the file defines is checked, also one no node places.
+namespace {
+GltfFile fileWithLights(const json& lights, int placed) {
+    GltfFile f = quadFile();
+    f.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    f.doc["extensions"]["KHR_lights_punctual"]["lights"] = lights;
+    if (placed >= 0) f.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = placed;
+    return f;
+}
+} // namespace
+
+TEST_CASE("gltf KHR_lights_punctual: every defined light is checked, placed by a node or not") {
+    const json good = {{"type", "point"}};
+    struct Bad {
+        const char* name;
+        json light;
+        const char* pointer;  // the key the error must name
+        const char* what;
+    };
+    const double halfPi = 1.5707963267948966;  // pi/2 in double, the spot bound
+    const std::vector<Bad> cases{
+        {"unknown-type", {{"type", "area"}}, "/extensions/KHR_lights_punctual/lights/3/type", "'area' is not point, spot or directional"},
+        {"negative-range", {{"type", "point"}, {"range", -1.0}}, "/extensions/KHR_lights_punctual/lights/3/range", "-1 is not positive"},
+        {"negative-intensity", {{"type", "point"}, {"intensity", -0.5}}, "/extensions/KHR_lights_punctual/lights/3/intensity", "-0.5"},
+        {"colour-above-one", {{"type", "point"}, {"color", {1.0, 2.0, 0.0}}}, "/extensions/KHR_lights_punctual/lights/3/color/1",
+         "2 is outside [0, 1]"},
+        {"colour-negative", {{"type", "directional"}, {"color", {-0.25, 0.0, 0.0}}}, "/extensions/KHR_lights_punctual/lights/3/color/0",
+         "-0.25 is outside [0, 1]"},
+        {"colour-two-numbers", {{"type", "point"}, {"color", {1.0, 1.0}}}, "/extensions/KHR_lights_punctual/lights/3/color",
+         "must be an array of 3 numbers"},
+        {"inner-equals-outer", {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.5}, {"outerConeAngle", 0.5}}}},
+         "/extensions/KHR_lights_punctual/lights/3/spot/innerConeAngle", "outside [0, outerConeAngle"},
+        {"inner-negative", {{"type", "spot"}, {"spot", {{"innerConeAngle", -0.1}, {"outerConeAngle", 0.5}}}},
+         "/extensions/KHR_lights_punctual/lights/3/spot/innerConeAngle", "-0.1"},
+        {"outer-zero", {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.0}, {"outerConeAngle", 0.0}}}},
+         "/extensions/KHR_lights_punctual/lights/3/spot/outerConeAngle", "outside (0, pi/2]"},
+        {"outer-beyond-half-pi", {{"type", "spot"}, {"spot", {{"outerConeAngle", halfPi + 0.01}}}},
+         "/extensions/KHR_lights_punctual/lights/3/spot/outerConeAngle", "outside (0, pi/2]"},
+    };
+    for (const Bad& c : cases) {
+        const std::string name = c.name;
+        CAPTURE(name);
+        // Lights 0..2 are good, light 3 is the bad one, and only light 0 is placed by a node.
+        GltfFile f = fileWithLights(json::array({good, good, good, c.light}), 0);
+        expectInputError(f.write(std::string("khr-light-") + c.name + ".gltf"), {c.pointer, c.what});
+    }
+    // The bounds themselves are allowed: inner 0, outer exactly pi/2 (the double nearest), range
+    // absent (infinite), colour 0 and 1, intensity 0.
+    const json edges = json::array({{{"type", "spot"}, {"spot", {{"innerConeAngle", 0.0}, {"outerConeAngle", halfPi}}}},
+                                    {{"type", "point"}, {"color", {0.0, 1.0, 0.0}}, {"intensity", 0.0}}});
+    std::vector<std::string> warnings;
+    const Scene scene = load(fileWithLights(edges, 0).write("khr-light-edges.gltf"), &warnings);
+    REQUIRE(scene.lights.size() == 1);
+    CHECK(scene.lights[0].spotHalfAngleDeg == 90.0f);  // float(halfPi * 180 / pi) = 90 exactly
+}
+
+TEST_CASE("gltf KHR_lights_punctual: the loader says how many lights are defined and how many nodes place") {
+    const json point = {{"type", "point"}};
+    {
+        // 3 defined, 1 placed by the only node: a warning naming the counts.
+        std::vector<std::string> warnings;
+        const Scene scene = load(fileWithLights(json::array({point, point, point}), 1).write("khr-lights-unreferenced.gltf"), &warnings);
+        CHECK(scene.lights.size() == 1);
+        bool found = false;
+        for (const std::string& w : warnings) found = found || contains(w, "defines 3 lights, 1 placed by a node; 2 unreferenced");
+        CHECK_MESSAGE(found, "warnings: " << warnings.size());
+    }
+    {
+        // 2 defined, none placed: "0 placed by nodes; 2 unreferenced" (the scene has no lights).
+        std::vector<std::string> warnings;
+        const Scene scene = load(fileWithLights(json::array({point, point}), -1).write("khr-lights-none-placed.gltf"), &warnings);
+        CHECK(scene.lights.empty());
+        bool found = false;
+        for (const std::string& w : warnings) found = found || contains(w, "defines 2 lights, 0 placed by nodes; 2 unreferenced");
+        CHECK(found);
+    }
+    {
+        // Every light placed: no warning about lights.
+        std::vector<std::string> warnings;
+        (void)load(fileWithLights(json::array({point}), 0).write("khr-lights-all-placed.gltf"), &warnings);
+        for (const std::string& w : warnings) CHECK_FALSE(contains(w, "unreferenced"));
+    }
 }

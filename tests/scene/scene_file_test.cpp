@@ -667,3 +667,37 @@ TEST_CASE("shadow casters and the indirect light: all, none, a list checked agai
                                     {"type": "directional", "direction": [0, -1, 0], "indirect": true}])"),
                 "/lights/1/indirect", "only one light may be indirect");
 }
+
+TEST_CASE("near 0: an orthographic glTF camera takes it (glTF 2.0 §5.13 znear >= 0), a perspective one refuses it") {
+    // The fuzz corpus file has a perspective camera (glTF camera 0, znear 0.1) and an
+    // orthographic one (camera 1, "top", znear 0), each placed by a node of scene 0.
+    const std::filesystem::path model = kSourceDir / "tests/fuzz/corpus/gltf/lights-cameras.gltf";
+    const auto withCamera = [&](const std::string& camera) {
+        return R"({"models": [{"path": ")" + model.generic_string() + R"("}], "camera": )" + camera + "}";
+    };
+    const SceneDescription probe = tessera::parseSceneJson(withCamera(R"({"gltf": 0})"), kSceneFile);
+    tessera::Camera camera;
+    const tessera::Scene s = tessera::loadScene(probe, false, &camera);
+    int orthographic = -1, perspective = -1;
+    for (std::size_t i = 0; i < s.cameras.size(); ++i)
+        (s.cameras[i].projection == tessera::ProjectionKind::Orthographic ? orthographic : perspective) = int(i);
+    REQUIRE(orthographic >= 0);
+    REQUIRE(perspective >= 0);
+    // The file's own znear 0, and a scene file's "near": 0 over it.
+    for (const std::string& extra : {std::string(), std::string(R"(, "near": 0)")}) {
+        CAPTURE(extra);
+        const SceneDescription d = tessera::parseSceneJson(withCamera(R"({"gltf": )" + std::to_string(orthographic) + extra + "}"), kSceneFile);
+        (void)tessera::loadScene(d, false, &camera);
+        CHECK(camera.projection == tessera::ProjectionKind::Orthographic);
+        CHECK(camera.nearZ == 0.0f);
+    }
+    // Over the perspective camera, "near": 0 is refused where the camera is resolved.
+    const SceneDescription bad = tessera::parseSceneJson(withCamera(R"({"gltf": )" + std::to_string(perspective) + R"(, "near": 0})"), kSceneFile);
+    try {
+        (void)tessera::loadScene(bad, false, &camera);
+        FAIL("near 0 over a perspective camera was accepted");
+    } catch (const tessera::InputError& e) {
+        CHECK(std::string(e.what()).find("/camera/near") != std::string::npos);
+        CHECK(std::string(e.what()).find("only an orthographic camera may take near 0") != std::string::npos);
+    }
+}

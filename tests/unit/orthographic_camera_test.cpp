@@ -4,6 +4,7 @@
 // projection3dgep gives orthographic cameras orthoRH_ZO under both conventions.
 #include <doctest/doctest.h>
 
+#include <tessera/io/input_error.h>
 #include <tessera/techniques/forward.h>
 
 #include "support/room_scene.h"
@@ -65,4 +66,87 @@ TEST_CASE("orthographic camera: demo-gl and d3d give the same matrix and the sam
         render(t, technique, {{"projection", "d3d"}}, d3d1);
         CHECK(sameBytes(gl1.back(), d3d1.back()));
     }
+}
+
+// glTF 2.0 §5.13 (camera.orthographic.znear ">= 0"): an orthographic near plane may be 0, on the
+// eye. The depth is then zView / f (orthoRH_ZO: z_clip = -z_view / (f - n) - n / (f - n), the
+// D3D11 convention z in [0, 1]); nothing divides by n. A perspective camera still refuses 0.
+TEST_CASE("orthographic camera with near 0: every ortho-capable technique renders it, the corrected ones equal forward") {
+    TestScene t = orthographicRoom();
+    t.camera.nearZ = 0.0f;
+    // tiled-deferred refuses every orthographic camera on purpose (Intel's tile planes are built
+    // for a perspective projection); near 0 keeps that refusal, with its message.
+    {
+        Rendered r;
+        CHECK_THROWS_WITH_AS(render(t, "tiled-deferred", nlohmann::json::object(), r), doctest::Contains("orthographic"), InputError);
+    }
+    for (const TechniqueInfo& info : techniques()) {
+        if (!info.build || std::string_view(info.id) == "tiled-deferred") continue;
+        CAPTURE(info.id);
+        Rendered r;
+        render(t, std::string(info.id), nlohmann::json::object(), r);
+        CHECK(pixelsWithGeometry(r.get("depth")) > kWidth * kHeight / 2);
+    }
+    // The corrected culling keeps every light (the extremes catalogue's equalities).
+    Rendered forward;
+    render(t, "forward", {{"projection", "d3d"}}, forward);
+    const std::vector<std::pair<const char*, nlohmann::json>> corrected{
+        {"forward-plus", {{"projection", "d3d"}, {"lightLists", "unbounded"}}},
+        {"deferred",
+         {{"projection", "d3d"}, {"reconstruct", "centre"}, {"gbuffer", "float"}, {"position", "gbuffer"}, {"accumulate", "lighting"},
+          {"lightVolumes", "circumscribed"}, {"volumeRotation", "robust"}}}};
+    for (const auto& entry : corrected) {
+        CAPTURE(entry.first);
+        Rendered other;
+        render(t, entry.first, entry.second, other);
+        CHECK(sameBytes(forward.back(), other.back()));
+    }
+    Rendered binned, all;
+    render(t, "forward-plus-amd", nlohmann::json::object(), binned);
+    render(t, "forward-plus-amd", {{"lightLoop", "all-lights"}}, all);
+    CHECK(sameBytes(binned.back(), all.back()));
+}
+
+TEST_CASE("orthographic camera with near 0: stored depth is the D3D11 ortho depth (zView - n) / (f - n), computed in double") {
+    // One triangle facing the camera at view distance d (oneTriangle), camera at the origin
+    // looking down -Z, near 0. Each pixel the triangle covers stores float((d - n) / (f - n)),
+    // the formula evaluated in double and rounded once: f = 16 gives the exact 1/16, 10/16,
+    // 15/16; f = 100 and d = 7 the rounded 0.07 (float(0.01) x 7 = 0.069999998.. rounds to the
+    // same float as 0.07).
+    struct Point {
+        float farZ, distance;
+    };
+    for (const Point p : {Point{16.0f, 1.0f}, Point{16.0f, 10.0f}, Point{16.0f, 15.0f}, Point{100.0f, 7.0f}}) {
+        CAPTURE(p.farZ);
+        CAPTURE(p.distance);
+        TestScene t;
+        t.scene = oneTriangle(-p.distance);
+        t.camera.projection = ProjectionKind::Orthographic;
+        t.camera.xMag = 2.0f;
+        t.camera.yMag = 1.5f;
+        t.camera.nearZ = 0.0f;
+        t.camera.farZ = p.farZ;
+        const double nearZ = 0.0;
+        const float expected = float((double(p.distance) - nearZ) / (double(p.farZ) - nearZ));
+        for (const char* technique : {"forward", "forward-plus", "deferred"}) {
+            CAPTURE(technique);
+            Rendered r;
+            render(t, technique, nlohmann::json::object(), r);
+            const Surface& depth = r.get("depth");
+            // The triangle's centroid (0, -1/3) lands at pixel (64, 48 + 48 / 1.5 / 3) of 128 x 96:
+            // (x / xMag + 1) / 2 * 128 = 64, (1 - y / yMag) / 2 * 96 = 58.67.
+            CHECK(depth.loadDepth(64, 58) == expected);
+            CHECK(depth.loadDepth(0, 0) == 1.0f);  // outside the triangle: the clear value
+        }
+    }
+}
+
+TEST_CASE("near 0 is refused for a perspective camera, with the reason") {
+    TestScene t = makeScene(defaultLights());
+    t.camera.nearZ = 0.0f;
+    Rendered r;
+    CHECK_THROWS_WITH_AS(render(t, "forward", nlohmann::json::object(), r),
+                         doctest::Contains("/camera/near: 0 is not a positive normal binary32 number"), InputError);
+    CHECK_THROWS_WITH_AS(render(t, "forward", nlohmann::json::object(), r),
+                         doctest::Contains("only an orthographic camera may take near 0"), InputError);
 }
