@@ -354,6 +354,14 @@ public:
         else moveInto(mStaging, mTarget);
         mCommitted = true;
     }
+    // `text` (an error message) with the staging folder named as DIR, the folder the user gave.
+    std::string named(std::string text) const {
+        if (mStaging.empty()) return text;
+        const std::string staging = mStaging.string(), target = mTarget.string();
+        for (std::size_t at = text.find(staging); at != std::string::npos; at = text.find(staging, at + target.size()))
+            text.replace(at, staging.size(), target);
+        return text;
+    }
     // A written path under the staging folder as it reads after commit.
     std::string finalPath(const std::string& path) const {
         if (mStaging.empty()) return path;
@@ -900,7 +908,7 @@ int render(const std::vector<std::string_view>& args) {
         written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
         written.insert(written.begin(), lightWritten.begin(), lightWritten.end());
         progress.finish();
-        if (!o.quiet) printFrameNotes(desc.technique, notes, registry);
+        if (!o.quiet && !o.probeJson) printFrameNotes(desc.technique, notes, registry);  // --json: one JSON object
         if (o.stats) {
             std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",
                         sceneFile.string().c_str(), (unsigned long long)scene.triangleCount(), resources.drawItems().size(),
@@ -939,7 +947,7 @@ int render(const std::vector<std::string_view>& args) {
         throw;
     } catch (const std::exception& e) {
         progress.finish();
-        std::fprintf(stderr, "tessera render: %s\n", e.what());
+        std::fprintf(stderr, "tessera render: %s\n", gDumpStaging ? gDumpStaging->named(e.what()).c_str() : e.what());
         return 1;
     }
 }

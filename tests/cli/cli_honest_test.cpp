@@ -296,6 +296,8 @@ TEST_CASE("cli honest: a render that fails leaves nothing behind: no dump folder
     INFO(r.output);
     CHECK(r.exitCode == 1);
     CHECK(r.output.find("File too large") != std::string::npos);
+    CHECK(r.output.find(dump.string() + "/") != std::string::npos);  // the message names DIR, not the staging folder
+    CHECK(r.output.find(".tessera-dump") == std::string::npos);
     CHECK_FALSE(fs::exists(dump));
     CHECK_FALSE(fs::exists(out));
     for (const fs::directory_entry& e : fs::directory_iterator(parent)) FAIL_CHECK("left behind: " << e.path().string());
