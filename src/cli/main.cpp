@@ -93,7 +93,9 @@ options:
   --option KEY=VALUE  a technique option, over the scene file's (repeatable; VALUE is JSON, or a
                     bare word taken as a string: --option coneTest=corrected --option tileSize=32);
                     checked against the technique before anything loads (see `tessera options`)
-  --out FILE        output image, .png or .exr (default: tessera.png); alpha is written opaque, as presented
+  --out FILE        output image, .png or .exr (default: tessera.png): the back buffer as stored, alpha
+                    included (as the goldens and --dump keep it); with --precision reference the double
+                    result (PNG: rounded once to 8 bits, EXR: its float values)
   --exr TYPE        EXR pixel type: half or float (default: float)
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
@@ -135,7 +137,8 @@ options:
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
-  --quiet           print nothing on success (no progress bar either)
+  --quiet           print nothing on success (no progress bar, no warnings or note about what the
+                    technique skipped or clamped; --dump's manifest.json keeps them under "notes")
   --help            show this text
 )";
 
@@ -191,6 +194,49 @@ void checkOutputPaths(const RenderOptions& o) {
         if (access(existing.c_str(), W_OK) != 0)
             throw UsageError("--dump: '" + o.dumpDir + "': '" + existing.string() + "' is not writable");
     }
+}
+
+// The back buffer's pixels saturated to white (R = G = B = 255 in an 8-bit back buffer; every
+// sample with MSAA resolved): light past what the sources' 8-bit target holds, clipped.
+std::uint64_t saturatedPixels(const tessera::BufferRegistry& registry) {
+    const tessera::Surface* back = registry.find(tessera::kBackBufferName);
+    if (!back || (back->format() != tessera::Format::R8G8B8A8_UNORM && back->format() != tessera::Format::R8G8B8A8_UNORM_SRGB)) return 0;
+    std::uint64_t n = 0;
+    for (std::uint32_t y = 0; y < back->height(); ++y)
+        for (std::uint32_t x = 0; x < back->width(); ++x) {
+            const std::byte* t = back->texel(x, y);
+            n += (t[0] == std::byte{255} && t[1] == std::byte{255} && t[2] == std::byte{255}) ? 1u : 0u;
+        }
+    return n;
+}
+
+// The frame's notes (frame/frame_notes.h) on stderr: one warning per kind a technique skipped or
+// clamped, with the count, the ERRATA.md row and what changes it; then one note naming what
+// visibly changes this image (the visible kinds, and pixels saturated to white) and the options
+// that correct it. Nothing about the technique is compared here: the records say it all.
+void printFrameNotes(const std::string& technique, const tessera::FrameNotes& notes, const tessera::BufferRegistry& registry) {
+    std::vector<std::string> visible, remedies;
+    for (const tessera::FrameNote& n : notes.list()) {
+        warn(technique + ": " + tessera::noteText(n));
+        if (!n.visible) continue;
+        const std::size_t cut = n.what.find_first_of(":(");
+        std::string label = std::to_string(n.count) + " " + (cut == std::string::npos ? n.what : n.what.substr(0, cut));
+        while (!label.empty() && label.back() == ' ') label.pop_back();
+        if (n.erratum) label += " (#" + std::to_string(n.erratum) + ")";
+        visible.push_back(label);
+        if (!n.remedy.empty() && std::find(remedies.begin(), remedies.end(), n.remedy) == remedies.end()) remedies.push_back(n.remedy);
+    }
+    if (const std::uint64_t saturated = saturatedPixels(registry))
+        visible.push_back(std::to_string(saturated) + " pixels saturated to white (light past the 8-bit back buffer's 1.0, clipped; "
+                                                      "the sources have no tone mapping)");
+    if (visible.empty()) return;
+    std::string text = "what changes this image visibly: ";
+    for (std::size_t i = 0; i < visible.size(); ++i) text += (i ? "; " : "") + visible[i];
+    if (!remedies.empty()) {
+        text += ". Corrected:";
+        for (const std::string& r : remedies) text += " " + r;
+    }
+    std::fprintf(stderr, "tessera: note: %s (ERRATA.md, README \"Warnings\")\n", text.c_str());
 }
 
 // One written file and the FNV-1a 64 hash of its bytes (io/atomic_file.h), for --stats.
@@ -262,6 +308,89 @@ void dumpRegistry(const tessera::BufferRegistry& registry, const fs::path& dir, 
     }
 }
 
+// The image --out writes: the back buffer as stored (alpha included, as the goldens and --dump keep
+// it, so a render of a golden's command line is that golden byte for byte). With precision
+// reference, the double result instead: for PNG "backbuffer.reference" rounded once to the back
+// buffer's 8-bit format (the UNORM clamp and encode of storeAsUnorm), for EXR the float values.
+tessera::Surface outputImage(const tessera::BufferRegistry& registry, const std::string& out) {
+    const tessera::Surface& back = *registry.find(tessera::kBackBufferName);
+    const tessera::Surface* reference = registry.find(tessera::kReferenceBufferName);
+    if (!reference) return back;
+    if (fs::path(out).extension() == ".exr") return *reference;
+    tessera::Surface rounded(back.desc());
+    tessera::storeAsUnorm(*reference, rounded);
+    return rounded;
+}
+
+// --dump's folder, filled out of sight: every dump (the final buffers, --dump-after's and
+// --dump-lights' folders, manifest.json) is written into a hidden staging folder inside the
+// deepest existing ancestor of DIR, and moved into DIR only when the render succeeded (renamed
+// when DIR does not exist, else merged into it entry by entry). A render that fails removes the
+// staging folder: DIR stays absent or as it was.
+class DumpStaging {
+public:
+    // Points o.dumpDir at the staging folder (nothing is created yet).
+    explicit DumpStaging(RenderOptions& o) {
+        if (o.dumpDir.empty()) return;
+        mTarget = fs::path(o.dumpDir).lexically_normal();
+        if (mTarget.filename().empty()) mTarget = mTarget.parent_path();
+        std::error_code ec;
+        fs::path existing = mTarget.has_parent_path() ? mTarget.parent_path() : fs::path(".");
+        while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
+        if (existing.empty()) existing = ".";
+        mStaging = existing / (".tessera-dump.partial-" + std::to_string(::getpid()) + "-" + std::to_string(Clock::now().time_since_epoch().count()));
+        o.dumpDir = mStaging.string();
+    }
+    DumpStaging(const DumpStaging&) = delete;
+    DumpStaging& operator=(const DumpStaging&) = delete;
+    ~DumpStaging() {
+        std::error_code ec;
+        if (!mStaging.empty()) fs::remove_all(mStaging, ec);
+    }
+    // Moves the staged dump into place (after everything else was written).
+    void commit() {
+        if (mStaging.empty() || mCommitted) return;
+        std::error_code ec;
+        if (!fs::exists(mStaging, ec)) fs::create_directories(mStaging);
+        if (mTarget.has_parent_path()) fs::create_directories(mTarget.parent_path());
+        if (!fs::exists(mTarget, ec)) fs::rename(mStaging, mTarget);
+        else moveInto(mStaging, mTarget);
+        mCommitted = true;
+    }
+    // `text` (an error message) with the staging folder named as DIR, the folder the user gave.
+    std::string named(std::string text) const {
+        if (mStaging.empty()) return text;
+        const std::string staging = mStaging.string(), target = mTarget.string();
+        for (std::size_t at = text.find(staging); at != std::string::npos; at = text.find(staging, at + target.size()))
+            text.replace(at, staging.size(), target);
+        return text;
+    }
+    // A written path under the staging folder as it reads after commit.
+    std::string finalPath(const std::string& path) const {
+        if (mStaging.empty()) return path;
+        const std::string staging = mStaging.string();
+        if (path.compare(0, staging.size(), staging) != 0) return path;
+        return mTarget.string() + path.substr(staging.size());
+    }
+
+private:
+    static void moveInto(const fs::path& from, const fs::path& to) {
+        for (const fs::directory_entry& e : fs::directory_iterator(from)) {
+            const fs::path dest = to / e.path().filename();
+            std::error_code ec;
+            if (e.is_directory() && fs::is_directory(dest, ec)) {
+                moveInto(e.path(), dest);
+                continue;
+            }
+            if (fs::is_directory(dest, ec)) fs::remove_all(dest);
+            fs::rename(e.path(), dest);
+        }
+    }
+    fs::path mTarget, mStaging;
+    bool mCommitted = false;
+};
+DumpStaging* gDumpStaging = nullptr;  // render's, while it runs
+
 // What a render wrote: the image, then with --dump every buffer, their views and manifest.json
 // (`manifest` holds the scene, technique, camera, options and command line; the passes and
 // buffers are added here).
@@ -269,9 +398,11 @@ std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, c
                                       nlohmann::json manifest) {
     std::vector<WrittenFile> written;
     if (o.noOutput) return written;
-    // The presented image: alpha ignored, as a swap chain shows it (--dump keeps stored alpha).
-    written.push_back({o.out, tessera::writeSurface(tessera::withOpaqueAlpha(*registry.find(tessera::kBackBufferName)), o.out, o.exrType)});
-    if (o.dumpDir.empty()) return written;
+    const tessera::Surface image = outputImage(registry, o.out);
+    if (o.dumpDir.empty()) {
+        written.push_back({o.out, tessera::writeSurface(image, o.out, o.exrType)});
+        return written;
+    }
     nlohmann::json buffers = nlohmann::json::array();
     dumpRegistry(registry, o.dumpDir, o, true, written, buffers);
     manifest["buffers"] = buffers;
@@ -282,12 +413,17 @@ std::vector<WrittenFile> writeOutputs(const tessera::BufferRegistry& registry, c
     const fs::path manifestFile = fs::path(o.dumpDir) / "manifest.json";
     tessera::writeFileAtomically(manifestFile, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
     written.push_back({manifestFile.string(), tessera::fnv1a64(std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()))});
+    // The image after the dump, and the dump moved into place last: a failure before leaves neither.
+    written.insert(written.begin(), WrittenFile{o.out, tessera::writeSurface(image, o.out, o.exrType)});
+    if (gDumpStaging) gDumpStaging->commit();
     return written;
 }
 
 // "hash     <16 hex digits>  <file>": FNV-1a 64 of each written file's bytes, in write order.
 void printHashes(const std::vector<WrittenFile>& written) {
-    for (const WrittenFile& w : written) std::printf("hash     %s  %s\n", tessera::hashHex(w.hash).c_str(), w.path.c_str());
+    for (const WrittenFile& w : written)
+        std::printf("hash     %s  %s\n", tessera::hashHex(w.hash).c_str(),
+                    (gDumpStaging ? gDumpStaging->finalPath(w.path) : w.path).c_str());
 }
 
 void printDrawStats(const tessera::DrawStats& s) {
@@ -397,15 +533,26 @@ std::optional<tessera::PixelHistory> probeHistory(const RenderOptions& o, std::u
 // The tile edge (px) of a technique's per-tile light lists: its "tileSize" option or the default
 // (16, forward-plus-amd's fixed 8); 0 for techniques without tiles.
 std::uint32_t lightGridTileSize(const tessera::SceneDescription& desc) {
-    if (desc.technique == "forward-plus-amd") return 8;
-    if (desc.technique != "forward-plus" && desc.technique != "tiled-deferred") return 0;
+    const tessera::TechniqueInfo* info = tessera::findTechnique(desc.technique);
+    if (!info || info->tileSize == 0) return 0;
+    if (!tessera::findOption(desc.technique, "tileSize")) return info->tileSize;
     const nlohmann::json& options = desc.techniqueOptions;
     if (options.is_object() && options.contains("tileSize") && options["tileSize"].is_number_unsigned())
         return options["tileSize"].get<std::uint32_t>();
-    return 16;
+    return info->tileSize;
 }
 
 std::string gCommandLine;  // "tessera render ...", for the manifest
+
+// "deferred and deferred-killzone": the techniques that declare `feature` (TechniqueInfo::features).
+std::string techniquesWith(std::uint32_t feature) {
+    std::vector<std::string> ids;
+    for (const tessera::TechniqueInfo& t : tessera::techniques())
+        if (t.features & feature) ids.emplace_back(t.id);
+    std::string text;
+    for (std::size_t i = 0; i < ids.size(); ++i) text += (i == 0 ? "" : i + 1 == ids.size() ? " and " : ", ") + ids[i];
+    return text;
+}
 
 // The manifest's common part: what was rendered and how, the passes with their declared buffers,
 // and --dump-after's snapshots. No times (--stats has them): the same render gives the same file.
@@ -585,6 +732,11 @@ int render(const std::vector<std::string_view>& args) {
         return 0;
     }
     checkOutputPaths(o);
+    DumpStaging staging(o);
+    gDumpStaging = &staging;
+    struct Forget {
+        ~Forget() { gDumpStaging = nullptr; }
+    } forget;
     if (o.scene == "builtin") return renderBuiltin(o);
 
     // Loading: bad input is exit 2 (InputError); everything else that fails is exit 1.
@@ -600,11 +752,8 @@ int render(const std::vector<std::string_view>& args) {
         desc.techniqueOptions = nlohmann::json::object();
         desc.technique = o.technique;
     }
-    if (!tessera::findTechnique(desc.technique)) {
-        std::string ids;
-        for (const tessera::TechniqueInfo& t : tessera::techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
-        if (!o.technique.empty()) throw UsageError("--technique: unknown technique '" + o.technique + "' (one of " + ids + ")");
-    }
+    // The scene file's technique (--technique was checked with the flags): unknown is exit 2 naming the file.
+    (void)tessera::requireTechnique(desc.technique, sceneFile.string());
     applyOptionArgs(o, desc.technique, desc.techniqueOptions);
     if (const tessera::TechniqueInfo* info = tessera::findTechnique(desc.technique); info && info->build && o.msaa > 1 && !info->msaa) {
         std::string ready;
@@ -613,9 +762,9 @@ int render(const std::vector<std::string_view>& args) {
         throw UsageError("--msaa: technique " + desc.technique + " does not render with MSAA yet (MSAA: " + ready + ")");
     }
     o.viewTileSize = lightGridTileSize(desc);
-    if (!o.dumpLights.empty() && desc.technique != "deferred" && desc.technique != "deferred-killzone")
-        throw UsageError("--dump-lights: " + desc.technique +
-                         " does not shade light by light (deferred and deferred-killzone do); --dump-after shows its passes");
+    if (!o.dumpLights.empty() && !(tessera::findTechnique(desc.technique)->features & tessera::kPerLightSteps))
+        throw UsageError("--dump-lights: " + desc.technique + " does not shade light by light (" +
+                         techniquesWith(tessera::kPerLightSteps) + " do); --dump-after shows its passes");
     if (o.width) desc.width = o.width;
     if (o.height) desc.height = o.height;
     if (o.precision) desc.precision = *o.precision;
@@ -639,7 +788,8 @@ int render(const std::vector<std::string_view>& args) {
     }
     // A scene with no lights at all gets the default rig under a lighting technique (preview has
     // its own head light), announced, unless --no-default-lights.
-    if (scene.lights.empty() && desc.technique != "preview" && !o.noDefaultLights) {
+    const std::uint32_t features = tessera::findTechnique(desc.technique)->features;
+    if (scene.lights.empty() && !(features & tessera::kOwnHeadLight) && !o.noDefaultLights) {
         scene.lights = tessera::defaultLightRig(scene.bounds(), camera);
         if (!scene.lights.empty() && !o.quiet)
             std::fprintf(stderr, "tessera: note: %s has no lights; shading with the default rig (a key and a fill point "
@@ -648,31 +798,28 @@ int render(const std::vector<std::string_view>& args) {
     }
     if (const auto depth = tessera::depthPrecisionWarning(camera, scene.bounds())) warn(sceneFile.string() + ": " + *depth);
     // Capsule lights are the Cookbook's: every other technique skips them (viewLights disables them).
-    if (desc.technique != "deferred-cookbook") {
+    if (!(features & tessera::kShadesCapsuleLights)) {
         const auto capsules = std::count_if(scene.lights.begin(), scene.lights.end(),
                                             [](const tessera::Light& l) { return l.type == tessera::LightType::Capsule; });
         if (capsules > 0)
             warn(sceneFile.string() + " has " + std::to_string(capsules) + " capsule light(s); " + desc.technique +
-                 " does not shade capsule lights (deferred-cookbook does), so they are skipped");
+                 " does not shade capsule lights (" + techniquesWith(tessera::kShadesCapsuleLights) + " does), so they are skipped");
     }
     // Light groups are PR&C's stencil groups: deferred-classic and light-prepass honour them.
-    if (desc.technique != "deferred-classic" && desc.technique != "light-prepass") {
+    if (!(features & tessera::kHonoursLightGroups)) {
         if (scene.usesLightGroups())
             warn(sceneFile.string() + " uses lightGroups; " + desc.technique +
-                 " lights every surface with every light (deferred-classic and light-prepass honour the groups)");
+                 " lights every surface with every light (" + techniquesWith(tessera::kHonoursLightGroups) + " honour the groups)");
     }
     // Ray-cast shadows and VPLs are GPU Pro 4's Forward+ extensions: forward-plus-amd alone.
-    if (desc.technique != "forward-plus-amd") {
+    if (!(features & tessera::kShadowRaysAndVpls)) {
         const bool casters = std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.castsShadows; });
         const bool indirect = std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.indirect; });
         if (casters || indirect)
             warn(sceneFile.string() + " marks " + (casters ? "shadow-casting" : "") + (casters && indirect ? " and " : "") +
                  (indirect ? "indirect" : "") + " lights; " + desc.technique +
-                 " has no ray-cast shadows or VPLs (forward-plus-amd does), so they light as plain lights");
-    } else if (o.msaa > 1 && std::any_of(scene.lights.begin(), scene.lights.end(), [](const tessera::Light& l) { return l.castsShadows; })) {
-        warn("ray-cast shadows need 1 sample per pixel: --msaa " + std::to_string(o.msaa) + " renders " +
-             sceneFile.string() + " without them");
-    }
+                 " has no ray-cast shadows or VPLs (" + techniquesWith(tessera::kShadowRaysAndVpls) + " does), so they light as plain lights");
+    }  // forward-plus-amd notes what its "auto" options leave out (frame notes, printed after the render)
     const double loadMs = msSince(t0);
     // Textures are decoded next: refuse now if they (and the decode's float copies) cannot fit.
     const SceneBytes loaded = sceneBytes(scene);
@@ -694,6 +841,8 @@ int render(const std::vector<std::string_view>& args) {
     ctx.stats = &drawStats;
     std::map<std::string, std::uint64_t> variantCounts;
     ctx.variantCounts = &variantCounts;
+    tessera::FrameNotes notes;
+    ctx.notes = &notes;
     // --dump-lights: the chosen lights' steps, written during the last (written) run only.
     for (const std::uint32_t light : o.dumpLights)
         if (light >= scene.lights.size())
@@ -739,6 +888,7 @@ int render(const std::vector<std::string_view>& args) {
             ++runsStarted;
             drawStats = {};
             variantCounts.clear();
+            notes.clear();
         }, history ? &*history : nullptr, o.probe ? &watch : nullptr, &device);
         progress.update("writing " + o.out, 0, 0);
         nlohmann::json manifest = manifestBase(frame, runs, o);
@@ -750,6 +900,11 @@ int render(const std::vector<std::string_view>& args) {
         manifest["msaa"] = o.msaa;
         manifest["options"] = desc.techniqueOptions.is_null() ? nlohmann::json::object() : desc.techniqueOptions;
         manifest["lights"] = scene.lights.size();
+        nlohmann::json noteList = nlohmann::json::array();
+        for (const tessera::FrameNote& n : notes.list())
+            noteList.push_back({{"kind", n.kind}, {"count", n.count}, {"what", n.what}, {"erratum", n.erratum},
+                                {"remedy", n.remedy}, {"visible", n.visible}});
+        manifest["notes"] = noteList;
         const glm::quat& q = camera.orientationWorld;
         manifest["camera"] = {{"positionWorld", {camera.positionWorld.x, camera.positionWorld.y, camera.positionWorld.z}},
                               {"orientationWorld", {q.x, q.y, q.z, q.w}},
@@ -762,6 +917,7 @@ int render(const std::vector<std::string_view>& args) {
         written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
         written.insert(written.begin(), lightWritten.begin(), lightWritten.end());
         progress.finish();
+        if (!o.quiet && !o.probeJson) printFrameNotes(desc.technique, notes, registry);  // --json: one JSON object
         if (o.stats) {
             std::printf("scene %s: %llu triangles, %zu draws, %zu lights, technique %s, precision %s, %ux%u\n",
                         sceneFile.string().c_str(), (unsigned long long)scene.triangleCount(), resources.drawItems().size(),
@@ -800,7 +956,7 @@ int render(const std::vector<std::string_view>& args) {
         throw;
     } catch (const std::exception& e) {
         progress.finish();
-        std::fprintf(stderr, "tessera render: %s\n", e.what());
+        std::fprintf(stderr, "tessera render: %s\n", gDumpStaging ? gDumpStaging->named(e.what()).c_str() : e.what());
         return 1;
     }
 }

@@ -12,6 +12,7 @@
 
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/option_catalog.h>
+#include <tessera/techniques/technique.h>
 
 namespace tessera::cli {
 
@@ -58,6 +59,16 @@ void applyOptionArgs(const RenderOptions& o, const std::string& technique, nlohm
         if (!options.is_object()) options = nlohmann::json::object();
         options[key] = value;
     }
+}
+
+std::string knownTechniqueIds() {
+    std::string ids;
+    for (const TechniqueInfo& t : techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
+    return ids;
+}
+
+void requireKnownTechnique(std::string_view flag, const std::string& id) {
+    if (!findTechnique(id)) throw UsageError(std::string(flag) + ": unknown technique '" + id + "' (one of " + knownTechniqueIds() + ")");
 }
 
 RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& help, std::vector<std::string>* warnings) {
@@ -161,6 +172,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         }
     }
     if (o.quiet) o.progress = Progress::Mode::Off;
+    // An unknown technique is an error on every scene, the builtin one included.
+    if (!o.technique.empty()) requireKnownTechnique("--technique", o.technique);
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
     if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");

@@ -30,6 +30,11 @@ struct UsageError : std::runtime_error {
 // `text` as an integer in [lo, hi], else a UsageError naming `flag` and the range.
 std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint32_t lo, std::uint32_t hi);
 
+// "forward, forward-plus, ...": every technique id of the registry, for messages.
+std::string knownTechniqueIds();
+// Throws UsageError "FLAG: unknown technique 'ID' (one of ...)" when no technique has id `id`.
+void requireKnownTechnique(std::string_view flag, const std::string& id);
+
 // --option KEY=VALUE: VALUE as JSON (true, 32, "x", [..]), else the bare text as a string.
 std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text);
 

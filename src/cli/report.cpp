@@ -17,6 +17,7 @@
 #include <tessera/io/image_writer.h>
 #include <tessera/io/input_error.h>
 #include <tessera/scene/default_lights.h>
+#include <tessera/techniques/option_catalog.h>
 #include <tessera/techniques/technique.h>
 
 #include "scene_args.h"
@@ -122,23 +123,26 @@ std::string caption(std::string_view technique, std::string_view pass) {
     return "";
 }
 
-// Why a technique's image differs from forward's with the faithful defaults (ERRATA.md rows).
-std::string differenceNote(std::string_view technique) {
-    if (technique == "deferred" || technique == "deferred-killzone")
-        return "P rebuilt at the pixel corner (#3), inscribed light volumes (#4), the packed specular power (#7); with "
-               "every correction on, deferred equals forward bit for bit on opaque scenes.";
-    if (technique == "forward-plus") return "light lists that may overflow (#15) and the cone test (#10); LESS_EQUAL against the pre-pass.";
-    if (technique == "forward-plus-amd") return "AMD's own lighting model (falloff, Blinn-Phong power 8; #18) and D3D projection.";
-    if (technique == "tiled-deferred") return "Intel's shading (linstep falloff, its G-buffer encoding) and D3D projection.";
-    if (technique == "light-prepass")
-        return "as deferred-classic, and the monochrome specular of its light buffer (the light's colour is lost).";
-    if (technique == "deferred-classic")
-        return "the chapter's lighting (linear falloff, Blinn-Phong times N.L, no ambient: the background stays black), "
-               "the unnormalized V (#27) and D3D projection.";
-    if (technique == "deferred-cookbook")
-        return "the Cookbook's own lighting (Blinn-Phong, (1 - d/R)^2 falloff, hemispheric ambient), the printed specular "
-               "decode (#22), the table's cull mode (#23), the black background (#26) and D3D projection.";
-    return "";
+// Why a technique's image differs from forward's, from what the run itself says: what it counted
+// as skipped or clamped (its FrameNotes, with their ERRATA.md rows), then every option of the
+// catalogue that corrects an erratum and is left at its faithful value in this run (`options`:
+// the ones the run was given). Nothing here is written per technique.
+std::string differenceNote(std::string_view technique, const nlohmann::json& options, const FrameNotes& notes) {
+    std::string out;
+    const auto append = [&out](const std::string& part) { out += (out.empty() ? "" : "; ") + part; };
+    for (const FrameNote& n : notes.list()) append(noteText(n));
+    std::string faithful;
+    for (const OptionInfo& option : techniqueOptions(technique)) {
+        if (option.erratum == 0 || option.corrected.empty()) continue;
+        std::string value(option.faithful);
+        if (options.is_object())
+            if (const auto it = options.find(std::string(option.key)); it != options.end())
+                value = it->is_string() ? it->get<std::string>() : it->dump();
+        if (value != option.faithful) continue;
+        faithful += (faithful.empty() ? "" : ", ") + std::string(option.key) + "=" + value + " (#" + std::to_string(option.erratum) + ")";
+    }
+    if (!faithful.empty()) append("faithful options in effect: " + faithful);
+    return out.empty() ? "nothing counted; no faithful option with an erratum" : out + ".";
 }
 
 struct Shot {
@@ -153,6 +157,7 @@ struct PassReport {
 };
 struct TechniqueReport {
     std::string id, source, summary;
+    std::string why;  // differenceNote of the run
     std::vector<PassReport> passes;
     std::vector<std::pair<std::string, std::vector<Shot>>> lightSteps;
     std::string finalFile;
@@ -270,6 +275,8 @@ int reportCommand(const std::vector<std::string_view>& args) {
         ctx.height = height;
         ctx.options = tr.id == desc.technique ? desc.techniqueOptions : nlohmann::json::object();
         ctx.stats = &stats;
+        FrameNotes notes;
+        ctx.notes = &notes;
         ctx.sceneFile = sceneFile.string();
         ctx.afterLightStep = [&](std::size_t light, std::string_view step, const BufferRegistry& reg) {
             if (!chosenLight || light != *chosenLight) return;
@@ -292,6 +299,7 @@ int reportCommand(const std::vector<std::string_view>& args) {
             tr.passes.push_back(std::move(pr));
         });
         for (std::size_t i = 0; i < timings.size() && i < tr.passes.size(); ++i) tr.passes[i].ms = timings[i].milliseconds;
+        tr.why = differenceNote(info.id, ctx.options, notes);
         tr.finalFile = tr.id + "/final.png";
         const Surface& back = registry.get(kBackBufferName);
         writeSurface(withOpaqueAlpha(back), root / tr.finalFile);
@@ -353,7 +361,7 @@ window.addEventListener('load', function () {
         char row[256];
         std::snprintf(row, sizeof(row), "<tr><td>%s</td><td>%.0f</td><td>%.3f</td><td>%llu (%.2f%%)</td>", tr.id.c_str(), tr.maxAbs,
                       tr.rmse, (unsigned long long)tr.differing, 100.0 * double(tr.differing) / (double(width) * height));
-        page += row + std::string("<td style=\"text-align:left\">") + html(differenceNote(tr.id)) + "</td></tr>\n";
+        page += row + std::string("<td style=\"text-align:left\">") + html(tr.why) + "</td></tr>\n";
     }
     page += "</table>\n";
     for (const TechniqueReport& tr : reports) {

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include <tessera/buffers/texel_codec.h>
+#include <tessera/state/viewport.h>
 
 namespace tessera {
 namespace {
@@ -33,8 +34,16 @@ std::uint32_t paletteColor(std::uint32_t value) {
     return ((bgr >> 16) & 0xFF) | (bgr & 0xFF00) | ((bgr & 0xFF) << 16);
 }
 
+// The view's image: the buffer's size, plus the colour bar's rows below when `bar` and they fit
+// under the largest surface (a 16384-row buffer gets no bar rather than a surface past the limit).
 Surface makeImage(const Surface& s, bool bar) {
-    return Surface({s.width(), s.height() + (bar ? kBarRows : 0), Format::R8G8B8A8_UNORM, 1});
+    const bool fits = s.height() + kBarRows <= kMaxSurfaceDimension;
+    return Surface({s.width(), s.height() + (bar && fits ? kBarRows : 0), Format::R8G8B8A8_UNORM, 1});
+}
+
+// "; the bar below runs 0..max" when `image` has the bar rows below the buffer's `h`, else "".
+std::string barText(const Surface& image, std::uint32_t h, std::uint32_t maxValue) {
+    return image.height() > h ? "; the bar below runs 0.." + std::to_string(maxValue) : std::string();
 }
 
 } // namespace
@@ -61,9 +70,9 @@ std::optional<BufferView> overlayTileCounts(const Surface& grid, std::uint32_t t
             store(v.image, x, y, rgb);
         }
     for (std::uint32_t x = 0; x < w; ++x)
-        for (std::uint32_t r = 0; r < kBarRows; ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+        for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
     v.rule = "lights per " + std::to_string(tileSizePx) + " px tile on the heat ramp (black 0 .. white " + std::to_string(maxCount) +
-             "), averaged with the image; the bar below runs 0.." + std::to_string(maxCount);
+             "), averaged with the image" + barText(v.image, h, maxCount);
     return v;
 }
 
@@ -122,9 +131,9 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
         for (std::uint32_t y = 0; y < h; ++y)
             for (std::uint32_t x = 0; x < w; ++x) store(v.image, x, y, paletteColor(s.loadStencil(x, y)));
         for (std::uint32_t x = 0; x < w; ++x)  // legend: 0..max left to right
-            for (std::uint32_t r = 0; r < kBarRows; ++r) store(v.image, x, h + r, paletteColor(x * (maxValue + 1) / w));
+            for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, paletteColor(x * (maxValue + 1) / w));
         v.rule = "stencil: 0 black, values 1.." + std::to_string(maxValue) +
-                 " each its own colour (12-colour palette, value mod 12); the bar below runs 0.." + std::to_string(maxValue);
+                 " each its own colour (12-colour palette, value mod 12)" + barText(v.image, h, maxValue);
         return v;
     }
     if (info.hasDepth) {
@@ -161,10 +170,10 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
         for (std::uint32_t y = 0; y < h; ++y)
             for (std::uint32_t x = 0; x < w; ++x) store(v.image, x, y, heatColor(t(decodeTexelUint(s.format(), s.texel(x, y))[c])));
         for (std::uint32_t x = 0; x < w; ++x)
-            for (std::uint32_t r = 0; r < kBarRows; ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+            for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
         v.rule = std::string(grid ? "light count (channel 1 of (offset, count))" : "channel 0") +
                  ": heat ramp from black (0) through blue, green, yellow to white (" + std::to_string(maxValue) +
-                 "); the bar below runs 0.." + std::to_string(maxValue);
+                 ")" + barText(v.image, h, maxValue);
         return v;
     }
     if (s.format() == Format::R8G8B8A8_UNORM || s.format() == Format::R8G8B8A8_UNORM_SRGB) return std::nullopt;

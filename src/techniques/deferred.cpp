@@ -320,6 +320,17 @@ private:
     PixelRect mDirty;
 };
 
+// Whether the eye (the view-space origin) lies inside the light's sphere (point) or cone (spot):
+// the case in which Killzone 2's marking clips the volume's front faces and lights nothing (ERRATA #6).
+bool eyeInsideLightVolume(const ViewLight<float>& light) {
+    const glm::vec3 toEye = -glm::vec3(light.positionView);
+    const float distance = glm::length(toEye);
+    if (!(distance < light.range)) return false;
+    if (light.type != LightType::Spot || distance == 0.0f) return true;
+    const float cosAngle = glm::dot(toEye / distance, glm::normalize(glm::vec3(light.directionView)));
+    return cosAngle >= std::cos(glm::radians(light.spotlightAngleDeg));
+}
+
 // The lighting pass: per enabled light in scene order, the 3dgep (unmark, shade) or Killzone 2
 // (mark, count, shade-if-above-threshold) sequence; directional lights as the far-plane quad.
 template <int kTargets, class T>
@@ -407,6 +418,9 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
                 stepDone(i, "shade");
             } else {
                 count("killzone-skipped:", light);
+                if (fwd.notes && eyeInsideLightVolume(fwd.lightsExact[i]))
+                    fwd.notes->add({"eye-inside-volume", "lights skipped: the eye is inside their volume, whose clipped front faces mark nothing",
+                                    1, 6, "--technique deferred", true});
             }
         }
     }

@@ -80,6 +80,7 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     setup->height = ctx.height;
     setup->sampleCount = ctx.sampleCount;
     setup->alphaTest = alphaTest;
+    setup->notes = ctx.notes;
     setup->precision = ctx.precision;
     setup->viewFromWorld = ctx.camera.viewFromWorld();
     setup->clipFromView = projection3dgep(ctx.camera, float(ctx.width) / float(ctx.height), projection);
@@ -91,6 +92,12 @@ std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& c
     if (ctx.precision == Precision::Reference) setup->lightsReference = viewLights<double>(ctx.lights(), setup->viewFromWorld);
     if (ctx.precision == Precision::Fast) setup->fastLights = std::make_shared<const FastLightSet>(FastLightSet::build(setup->lightsExact));
     return setup;
+}
+
+void noteAlphaTestOff(const ForwardPassSetup& setup, const PhongMaterial& material) {
+    if (!setup.notes || setup.alphaTest || !(phongFeatures(material, true) & kPhongAlphaTest)) return;
+    setup.notes->add({"alpha-test-off", "draws of alpha-masked materials shaded without the alpha test (cut-out texels drawn solid)",
+                      1, 2, "--option alphaTest=true", true});
 }
 
 void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneResources& res, const RenderTargets& rt,
@@ -118,6 +125,7 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
         const PhongVS vs{setup.clipFromView * viewFromObject, viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
+        noteAlphaTestOff(setup, material);
         if (reference)
             drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
         else

@@ -762,6 +762,10 @@ void cullLights(ForwardPlusState& st, Device& device, BufferRegistry& reg) {
         static_assert(sizeof(LightListCounters) == kLightListCounterFields * sizeof(std::uint32_t));
         std::memcpy(counterSurface.texel(0, row), &rowsOut[row], sizeof(LightListCounters));
     }
+    if (FrameNotes* notes = st.setup->notes)
+        for (const LightListCounters& c : rowsOut)
+            notes->add({"light-list-overflow", "tile light-list entries lost to the demo's fixed lists (1024 per tile, 200 per tile on average)",
+                        std::uint64_t{c.droppedLocal} + c.droppedGlobal, 15, "--option lightLists=unbounded", true});
 }
 
 // The "heatmap" pass: the demo's DebugTexture as CS_main's last phase writes it, from the opaque

@@ -130,6 +130,8 @@ struct AmdState {
     Light indirectLight;
     RsmView rsm;
     std::uint32_t sceneLightCount = 0;
+    // What "auto" turned off in this configuration, noted every frame (the cull pass adds them).
+    std::vector<FrameNote> configurationNotes;
 };
 
 SurfaceDesc indexListDesc(std::uint64_t entries) {
@@ -295,6 +297,12 @@ void cullAll(AmdState& st, Device& device, BufferRegistry& reg) {
     }
     static_assert(sizeof(LightListCounters) == kLightListCounterFields * sizeof(std::uint32_t));
     for (std::uint32_t row = 0; row < kCounterRows; ++row) std::memcpy(counters.texel(0, row), &rows[row], sizeof(LightListCounters));
+    if (FrameNotes* notes = st.setup->notes) {
+        for (const FrameNote& n : st.configurationNotes) notes->add(n);
+    }
+    if (FrameNotes* notes = st.setup->notes)
+        for (const LightListCounters& c : rows)
+            notes->add({"light-list-clamp", "tile light-list entries past LIGHT_CAPACITY 256 dropped", c.droppedLocal, 20, "", true});
 }
 
 // ----- AMD shading (ForwardPlus11 RenderScenePS, amd_lighting.h) --------------------------------
@@ -452,6 +460,7 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
         const std::span<const SceneVertex> vertices(prim.vertices);
+        if (!indirectOnly) noteAlphaTestOff(setup, material);
         DrawStats s;
         if (indirectOnly)
             s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, false})
@@ -584,6 +593,13 @@ void castRaysPass(AmdState& st, Device& device, const SceneResources& res, Buffe
     Surface& counters = reg.create("shadow.counters", {5, 1, Format::R32_UINT, 1});
     for (std::size_t i = 0; i < values.size(); ++i)
         storeUint32(counters.bytes().data(), i, std::uint32_t(std::min<std::uint64_t>(values[i], 0xFFFFFFFFu)));
+    if (FrameNotes* notes = st.setup->notes) {
+        const bool lit = st.options.shadowRays.overflow == ShadowOverflow::Lit;
+        notes->add({"shadow-mask-overflow",
+                    std::string("pixel-light pairs past the 128-slot shadow mask, which has no bit for them: ") +
+                        (lit ? "lit without a shadow test" : "dropped (unlit)"),
+                    c.overflowLights, 31, lit ? "--option shadowOverflow=unlit" : "--option shadowOverflow=lit", true});
+    }
 }
 
 } // namespace
@@ -649,6 +665,15 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     else if (!st->options.shadingAmd) indirectBlocker = "VPLs are shaded by \"shading\": \"amd\"";
     if (shadowsOn && !shadowBlocker.empty()) throw inputError(file, "/options/shadows", "\"on\", but " + shadowBlocker);
     if (indirectOn && !indirectBlocker.empty()) throw inputError(file, "/options/indirect", "\"on\", but " + indirectBlocker);
+    if (st->options.shadows == "auto" && anyCaster && !shadowBlocker.empty()) {
+        const auto casters = std::count_if(sceneLights.begin(), sceneLights.end(), [](const Light& l) {
+            return l.castsShadows && l.enabled && (l.type == LightType::Point || l.type == LightType::Spot);
+        });
+        st->configurationNotes.push_back({"shadows-auto-off", "shadow-casting lights lit without ray-cast shadows (\"shadows\": \"auto\"): " + shadowBlocker,
+                                          std::uint64_t(casters), 0, "", true});
+    }
+    if (st->options.indirect == "auto" && indirectLight && !indirectBlocker.empty())
+        st->configurationNotes.push_back({"indirect-auto-off", "indirect lights without VPLs (\"indirect\": \"auto\"): " + indirectBlocker, 1, 0, "", true});
     st->shadowsActive = st->options.shadows != "off" && shadowBlocker.empty();
     st->indirectActive = st->options.indirect != "off" && indirectBlocker.empty();
     if (st->indirectActive) st->indirectLight = *indirectLight;

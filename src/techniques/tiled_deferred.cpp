@@ -684,6 +684,13 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
                        if (s.samples > 1) counted.edgeTestedPixels = std::uint64_t(s.width) * s.height;
                        *stats += counted;
                    }
+                   if (FrameNotes* notes = s.forward->notes) {
+                       std::uint64_t dropped = 0;
+                       for (std::size_t t = 0; t < s.lists.size(); ++t)
+                           if (s.appended[t] > s.lists[t].size()) dropped += s.appended[t] - s.lists[t].size();
+                       notes->add({"light-list-overflow", "tile light-list entries past the tile list's capacity dropped", dropped, 16,
+                                   "--option tileListCapacity=unbounded", true});
+                   }
                    // The lists, row-major by tile, the grid (offset, stored count) and the appended counts.
                    std::size_t total = 0;
                    for (const auto& l : s.lists) total += l.size();

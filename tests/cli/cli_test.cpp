@@ -424,9 +424,14 @@ TEST_CASE("cli: diff prints mean abs, the float32 ULP distance of float files, a
     REQUIRE(run("render builtin --precision reference --width 64 --height 36 --quiet --dump " + dir.string() + " --out " +
                 out.string()).exitCode == 0);
     const auto reference = dir / "backbuffer.reference.exr";
+    // --precision reference --out writes the reference itself; exact's image comes from a render without it.
+    const Run same = run("diff " + out.string() + " " + reference.string() + " --json");
+    CHECK(nlohmann::json::parse(same.output)["max_ulp"] == 0);
+    const auto exact = scratch("diffulp-exact.exr");
+    REQUIRE(run("render builtin --width 64 --height 36 --quiet --out " + exact.string()).exitCode == 0);
     const auto heat = scratch("diffulp-heat.png");
     std::filesystem::remove(heat);
-    const Run r = run("diff " + out.string() + " " + reference.string() + " --ignore-alpha --json --heatmap " + heat.string());
+    const Run r = run("diff " + exact.string() + " " + reference.string() + " --ignore-alpha --json --heatmap " + heat.string());
     INFO(r.output);
     REQUIRE(r.exitCode == 0);
     const nlohmann::json j = nlohmann::json::parse(r.output);

@@ -66,7 +66,12 @@ struct ForwardPassSetup {
     std::vector<ViewLight<float>> lightsExact;
     std::vector<ViewLight<double>> lightsReference;
     std::shared_ptr<const FastLightSet> fastLights;  // precision fast: lightsExact as arrays
+    FrameNotes* notes = nullptr;           // the context's: draws of cut-out materials without the alpha test
 };
+
+// Notes (frame/frame_notes.h) a draw of `material` through the forward PS without the alpha test
+// when the material would discard with it (glTF MASK, ERRATA #2): kind "alpha-test-off".
+void noteAlphaTestOff(const ForwardPassSetup& setup, const PhongMaterial& material);
 
 // The setup of `context` (its camera, size, precision and scene lights in scene order).
 std::shared_ptr<ForwardPassSetup> makeForwardPassSetup(const TechniqueContext& context, ProjectionConvention projection,

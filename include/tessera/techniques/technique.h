@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <tessera/frame/frame.h>
+#include <tessera/frame/frame_notes.h>
 #include <tessera/raster/device.h>
 #include <tessera/scene/precision.h>
 #include <tessera/scene/scene_resources.h>
@@ -33,6 +34,9 @@ struct TechniqueContext {
     DrawStats* stats = nullptr;                // accumulated over every draw of the frame
     // Draws per shader variant ("exact:diffuse+normal", ...), for --stats; may be null.
     std::map<std::string, std::uint64_t>* variantCounts = nullptr;
+    // What the frame skipped or clamped (lights, list entries, draws), each kind counted with its
+    // erratum and remedy, for the command line's warnings and the report; may be null.
+    FrameNotes* notes = nullptr;
     std::string sceneFile;                     // named in the InputErrors of option values
     // Per-light techniques (deferred, deferred-killzone) call this after each step of every light
     // (light index in scene order; "unmark" and "shade", or Killzone's "mark", "count", "shade")
@@ -62,6 +66,22 @@ struct TechniqueInfo {
     TexturePolicy textures = TexturePolicy::Gltf;
     // Renders with TechniqueContext::sampleCount > 1 (multisampled targets and a resolve).
     bool msaa = false;
+    // What the technique does with the scene's lights beyond plain point, spot and directional
+    // ones (TechniqueFeature bits): the command line warns about what a scene asks for and the
+    // technique leaves out, without comparing technique ids.
+    std::uint32_t features = 0;
+    // The edge of its per-tile light lists ("lightgrid*" buffers) in px: the "tileSize" option when
+    // the technique has one, else this; 0 for techniques without tiles.
+    std::uint32_t tileSize = 0;
+};
+
+// TechniqueInfo::features.
+enum TechniqueFeature : std::uint32_t {
+    kShadesCapsuleLights = 1u << 0,  // capsule lights (others skip them)
+    kHonoursLightGroups = 1u << 1,   // the scene's lightGroups (others light every surface with every light)
+    kShadowRaysAndVpls = 1u << 2,    // shadow-casting and indirect lights (others light them as plain lights)
+    kOwnHeadLight = 1u << 3,         // lights without the scene's lights (no default rig for a scene without any)
+    kPerLightSteps = 1u << 4,        // calls TechniqueContext::afterLightStep (--dump-lights)
 };
 
 std::span<const TechniqueInfo> techniques();
