@@ -98,10 +98,14 @@ public:
     void setPixelWatch(PixelWatch* watch) { mWatch = watch; }
     // The watch set above (null: none); compute passes that shade pixels record into it too.
     PixelWatch* pixelWatch() const { return mWatch; }
+    // Counts every later draw's pixel-shader invocations per pixel into `counts`
+    // (raster/pixel_watch.h); null stops. Adds one predictable branch per shaded pixel, nothing else.
+    void setShadeCounts(ShadeCounts* counts) { mShadeCounts = counts; }
 
 private:
     DeviceConfig mConfig;
     PixelWatch* mWatch = nullptr;
+    ShadeCounts* mShadeCounts = nullptr;
     std::uint64_t mDrawCount = 0;  // draws issued, for PixelDrawEvent::draw
     std::unique_ptr<tbb::task_arena> mArena;
     // More threads than cores (e.g. the 7-thread determinism runs on 2 cores) need TBB's

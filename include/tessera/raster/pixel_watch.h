@@ -83,4 +83,25 @@ struct PixelWatch {
     std::vector<PixelDrawEvent> events;  // in draw, then primitive order (one thread owns the pixel's tile)
 };
 
+// Pixel-shader invocations per pixel over every draw while Device::setShadeCounts holds it: the
+// selectivity tests' view of which pixels a light's shading pass ran on (a light that adds 0 to a
+// pixel leaves no trace in any image). A per-sample shader counts once per sample it runs for;
+// helper lanes do not count. Only counting: no shader input or output changes. Each pixel is
+// counted by the one thread that owns its tile, so the counts need no atomics.
+struct ShadeCounts {
+    std::uint32_t width = 0, height = 0;  // px; draws to larger targets count only inside this
+    std::vector<std::uint32_t> invocations;  // row-major, width x height: every invocation
+    std::vector<std::uint32_t> perSample;    // of those, the invocations of per-sample shaders
+    ShadeCounts() = default;
+    ShadeCounts(std::uint32_t widthPx, std::uint32_t heightPx)
+        : width(widthPx), height(heightPx), invocations(std::size_t(widthPx) * heightPx, 0u),
+          perSample(std::size_t(widthPx) * heightPx, 0u) {}
+    void add(std::uint32_t xPx, std::uint32_t yPx, bool sampleRate) {
+        if (xPx >= width || yPx >= height) return;
+        ++invocations[std::size_t(yPx) * width + xPx];
+        if (sampleRate) ++perSample[std::size_t(yPx) * width + xPx];
+    }
+    std::uint32_t at(std::uint32_t xPx, std::uint32_t yPx) const { return invocations[std::size_t(yPx) * width + xPx]; }
+};
+
 } // namespace tessera

@@ -254,6 +254,7 @@ struct DrawContext {
     bool fast = false;  // DrawState::precision == Fast
     bool simdBlocks = true;  // DeviceConfig::simdBlocks
     PixelWatch* watch = nullptr;  // Device::setPixelWatch
+    ShadeCounts* shadeCounts = nullptr;  // Device::setShadeCounts
     std::uint64_t drawNumber = 0;
 };
 
@@ -489,6 +490,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             }
                             ps(in, out);
                             ++counters.psInvocations;
+                            if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, kPerSample);
                             shaded = true;
                             if (watched) [[unlikely]] {
                                 setWatchedLightTerms(nullptr);
@@ -696,6 +698,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                                                                    front, 1u, 0u};
                                             ps(in, out);
                                             ++shaded;
+                                            if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, false);
                                             if (out.discarded) continue;
                                             if constexpr (kMayDiscard) writeDepth(lane);
                                             ++written;
@@ -872,6 +875,7 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
                                standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
                                mConfig.simdBlocks};
         dc.watch = mWatch;
+        dc.shadeCounts = mShadeCounts;
         dc.drawNumber = mDrawCount++;
         bool blends = false;
         for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
