@@ -4,6 +4,9 @@
 // projection3dgep gives orthographic cameras orthoRH_ZO under both conventions.
 #include <doctest/doctest.h>
 
+#include <cmath>
+
+#include <tessera/buffers/conversion.h>
 #include <tessera/io/input_error.h>
 #include <tessera/techniques/forward.h>
 
@@ -78,7 +81,7 @@ TEST_CASE("orthographic camera with near 0: every ortho-capable technique render
     // for a perspective projection); near 0 keeps that refusal, with its message.
     {
         Rendered r;
-        CHECK_THROWS_WITH_AS(render(t, "tiled-deferred", nlohmann::json::object(), r), doctest::Contains("orthographic"), InputError);
+        CHECK_THROWS_WITH_AS(render(t, "tiled-deferred", nlohmann::json::object(), r), doctest::Contains("needs a perspective camera"), InputError);
     }
     for (const TechniqueInfo& info : techniques()) {
         if (!info.build || std::string_view(info.id) == "tiled-deferred") continue;
@@ -127,7 +130,8 @@ TEST_CASE("orthographic camera with near 0: stored depth is the D3D11 ortho dept
         t.camera.nearZ = 0.0f;
         t.camera.farZ = p.farZ;
         const double nearZ = 0.0;
-        const float expected = float((double(p.distance) - nearZ) / (double(p.farZ) - nearZ));
+        const double zExact = (double(p.distance) - nearZ) / (double(p.farZ) - nearZ);
+        const double kD24Max = 16777215.0;  // 2^24 - 1
         for (const char* technique : {"forward", "forward-plus", "deferred"}) {
             CAPTURE(technique);
             Rendered r;
@@ -135,6 +139,9 @@ TEST_CASE("orthographic camera with near 0: stored depth is the D3D11 ortho dept
             const Surface& depth = r.get("depth");
             // The triangle's centroid (0, -1/3) lands at pixel (64, 48 + 48 / 1.5 / 3) of 128 x 96:
             // (x / xMag + 1) / 2 * 128 = 64, (1 - y / yMag) / 2 * 96 = 58.67.
+            const float expected = depth.desc().format == Format::D24_UNORM_S8_UINT
+                                       ? convert::d24ToDepth(std::uint32_t(std::llround(zExact * kD24Max)))
+                                       : float(zExact);
             CHECK(depth.loadDepth(64, 58) == expected);
             CHECK(depth.loadDepth(0, 0) == 1.0f);  // outside the triangle: the clear value
         }
