@@ -40,6 +40,8 @@ struct GBufferShader : Encoder {
     using Varyings = PhongVaryings;
     static constexpr int kTargetCount = Encoder::kTargetCount + (kEdgeData ? kEdgeDataTargets : 0);
     static constexpr bool kMayDiscard = kDiscard;
+    // The edge-data layout is the multisampled G-buffer's; the plain one is drawn at one sample.
+    static constexpr SampleRates kSampleRates = kEdgeData ? SampleRates::Multi : SampleRates::Single;
     PhongGatherFn gather = nullptr;
     const PhongShaderData<float>* data = nullptr;
     std::uint32_t sampleCount = 1;
@@ -67,6 +69,7 @@ struct GBufferShader : Encoder {
 template <class PS>
 struct PerSample : PS {
     static constexpr bool kPerSample = true;
+    static constexpr SampleRates kSampleRates = SampleRates::Multi;
 };
 
 // `p` limited to pixels whose edge bit is clear (edgePixels false) or set (true). A pass without
@@ -149,6 +152,7 @@ struct EdgeMarkPS {
     using Varyings = NoVaryings;
     static constexpr int kTargetCount = 1;
     static constexpr bool kMayDiscard = true;
+    static constexpr SampleRates kSampleRates = SampleRates::Multi;  // edges exist only in multisampled buffers
     TargetReader surface, coverage;
     std::uint32_t sampleCount = 1;
     EdgeDetector detector = EdgeDetector::Coverage;

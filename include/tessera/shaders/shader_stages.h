@@ -99,6 +99,12 @@ struct PixelOutput {
 //   static constexpr bool kWritesDepth  - outputs SV_Depth (disables early depth/stencil)
 //   static constexpr bool kPerSample    - runs once per covered sample (reads SV_SampleIndex)
 //   static constexpr bool kMayDiscard   - may call discard()
+//   static constexpr SampleRates kSampleRates - the target sample counts the rasterizer is compiled
+//                                       for with this shader (default Both; per-sample shaders:
+//                                       Multi). Each compiled rate costs build time
+//                                       (raster/detail/draw_impl.h: DepthKernel).
+enum class SampleRates : std::uint8_t { Single = 1, Multi = 2, Both = 3 };
+
 template <class PS>
 concept PixelShader = requires(const PS& ps, const PixelInput<typename PS::Varyings>& in,
                                PixelOutput<PS::kTargetCount>& out) {
@@ -118,6 +124,11 @@ namespace detail {
 template <class PS> constexpr bool writesDepth() { if constexpr (requires { PS::kWritesDepth; }) return PS::kWritesDepth; else return false; }
 template <class PS> constexpr bool perSample() { if constexpr (requires { PS::kPerSample; }) return PS::kPerSample; else return false; }
 template <class PS> constexpr bool mayDiscard() { if constexpr (requires { PS::kMayDiscard; }) return PS::kMayDiscard; else return false; }
+template <class PS> constexpr SampleRates sampleRates() {
+    if constexpr (requires { PS::kSampleRates; }) return PS::kSampleRates;
+    else return perSample<PS>() ? SampleRates::Multi : SampleRates::Both;
+}
+template <class PS> constexpr bool compiledFor(SampleRates rate) { return (std::uint8_t(sampleRates<PS>()) & std::uint8_t(rate)) != 0; }
 } // namespace detail
 
 } // namespace tessera

@@ -8,6 +8,8 @@
 #include <bit>
 #include <cstring>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -196,40 +198,55 @@ inline V subtract(const V& a, const V& b) {
     return std::bit_cast<V>(x);
 }
 
-// Depth/stencil test of one sample on the draw's DepthPath (output_merger.h). For D24,
+// The depth/stencil kernels rasterizeTile is compiled for, one instantiation each per pixel
+// shader (every instantiation costs build time, so there are three, not one per DepthPath and
+// sample count): Off (DepthPath::Off); Buffer, a depth test without stencil on a D32 or D24
+// buffer (DepthPath::D32 / D24, the format a run-time flag of the draw); General, the full
+// DepthStencilUnit test, which every multisampled draw takes whatever its path: the Off, D32 and
+// D24 paths are special cases of it with the same results (the output-merger tests hold them to it).
+enum class DepthKernel : std::uint8_t { Off, Buffer, General };
+
+constexpr DepthKernel depthKernel(DepthPath path, bool singleSample) {
+    if (!singleSample || path == DepthPath::General) return DepthKernel::General;
+    return path == DepthPath::Off ? DepthKernel::Off : DepthKernel::Buffer;
+}
+
+// Depth/stencil test of one sample on the draw's kernel (`d24`: Buffer's format). For D24,
 // `code` returns the incoming depth converted to the buffer (reused by the update).
-template <DepthPath kPath>
-inline DepthStencilResult depthStencilTest(const DepthStencilUnit& ds, const std::byte* texel, float z, bool front,
+template <DepthKernel kKernel>
+inline DepthStencilResult depthStencilTest(const DepthStencilUnit& ds, bool d24, const std::byte* texel, float z, bool front,
                                            std::uint32_t& code) {
-    if constexpr (kPath == DepthPath::Off) {
+    if constexpr (kKernel == DepthKernel::Off) {
         return DepthStencilResult::Pass;
-    } else if constexpr (kPath == DepthPath::D32) {
+    } else if constexpr (kKernel == DepthKernel::Buffer) {
+        if (d24) {
+            std::uint32_t stored;
+            std::memcpy(&stored, texel, 4);
+            code = convert::depthToD24(z);
+            return compare(ds.desc.depthFunc, code, stored & 0xFFFFFFu) ? DepthStencilResult::Pass : DepthStencilResult::DepthFail;
+        }
         float stored;
         std::memcpy(&stored, texel, 4);
         return compare(ds.desc.depthFunc, z, stored) ? DepthStencilResult::Pass : DepthStencilResult::DepthFail;
-    } else if constexpr (kPath == DepthPath::D24) {
-        std::uint32_t stored;
-        std::memcpy(&stored, texel, 4);
-        code = convert::depthToD24(z);
-        return compare(ds.desc.depthFunc, code, stored & 0xFFFFFFu) ? DepthStencilResult::Pass : DepthStencilResult::DepthFail;
     } else {
         return ds.test(texel, z, front);
     }
 }
 
-template <DepthPath kPath>
-inline void depthStencilUpdate(const DepthStencilUnit& ds, std::byte* texel, float z, bool front,
+template <DepthKernel kKernel>
+inline void depthStencilUpdate(const DepthStencilUnit& ds, bool d24, std::byte* texel, float z, bool front,
                                DepthStencilResult result, std::uint32_t code) {
-    if constexpr (kPath == DepthPath::D32) {
-        if (result == DepthStencilResult::Pass && ds.desc.depthWriteEnable) std::memcpy(texel, &z, 4);
-    } else if constexpr (kPath == DepthPath::D24) {
-        if (result == DepthStencilResult::Pass && ds.desc.depthWriteEnable) {
+    if constexpr (kKernel == DepthKernel::Buffer) {
+        if (result != DepthStencilResult::Pass || !ds.desc.depthWriteEnable) return;
+        if (d24) {
             texel[0] = std::byte(code & 0xFF);
             texel[1] = std::byte((code >> 8) & 0xFF);
             texel[2] = std::byte((code >> 16) & 0xFF);
+        } else {
+            std::memcpy(texel, &z, 4);
         }
-    } else if constexpr (kPath == DepthPath::General) {
-        ds.update(texel, z, front, result);
+    } else if constexpr (kKernel == DepthKernel::General) {
+        if (texel) ds.update(texel, z, front, result);  // null: no depth-stencil buffer bound
     }
 }
 
@@ -301,7 +318,7 @@ struct WatchRecord {
 // target (|E| <= 2^61, fixed_point.h), so coverage and barycentrics equal the direct
 // evaluation bit for bit.
 // kSingleSample: the targets have one sample, so every per-sample loop folds away at compile time.
-template <class PS, Varyings V, DepthPath kDepth, bool kSingleSample>
+template <class PS, Varyings V, DepthKernel kDepth, bool kSingleSample>
 void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
                    const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& tileCounters) {
     // Counted locally and stored once: the tiles' counters sit side by side in one vector, so
@@ -322,7 +339,9 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
     // it covers kAheadPixels ahead. Prefetches change no result.
     constexpr std::size_t kAheadTri = 8, kAheadVary = 4, kAheadPixels = 2;
     constexpr std::int32_t kPrefetchRows = 8;
-    Surface* const pixelSurfaces[2] = {kDepth == DepthPath::Off ? nullptr : dc.depthStencil,
+    // Buffer's format, fixed for the draw: D24 (else D32).
+    const bool depthD24 = kDepth == DepthKernel::Buffer && dc.ds.path() == DepthPath::D24;
+    Surface* const pixelSurfaces[2] = {kDepth == DepthKernel::Off ? nullptr : dc.depthStencil,
                                        kTargets > 0 ? dc.colors[0] : nullptr};
     constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
     auto triangleOf = [&](const TriangleRef& ref) -> const SetupTriangle& { return chunks[ref.chunk].tris[ref.index]; };
@@ -338,7 +357,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
     // passing pixels, with nothing per pixel that the state does not need. For pixel-rate
     // shaders that do not write depth, on the D32 / D24 / Off paths (stencil inactive) and when
     // failing samples cannot write (checked per triangle); otherwise the block feeds shadeQuad.
-    constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthPath::General;
+    constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthKernel::General;
     QuadBlock block;
     // RGBA8 colours of one triangle's block, per target (overwrites, and blends when
     // dc.rgba8Blend): colour c of lane p at rgba[c * 64 + p].
@@ -512,7 +531,7 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                     for (std::uint32_t s = 0; s < sampleCount; ++s) {
                         if (!(mask & (1u << s))) continue;
                         const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
-                        result[s] = depthStencilTest<kDepth>(dc.ds, dsTexel, zSample[s], front, depthCode[s]);
+                        result[s] = depthStencilTest<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, depthCode[s]);
                         if (result[s] == DepthStencilResult::Pass) {
                             passMask |= 1u << s;
                             ++passCount;
@@ -540,11 +559,11 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                         if (passMask != 0 || (kMayDiscard && failWrites)) shade();
                         if (shaded && out.discarded) return;
                     }
-                    if constexpr (kDepth != DepthPath::Off) {
+                    if constexpr (kDepth != DepthKernel::Off) {
                         for (std::uint32_t s = 0; s < sampleCount; ++s) {
                             if (!(mask & (1u << s))) continue;
-                            depthStencilUpdate<kDepth>(dc.ds, dc.depthStencil->texel(px, py, s), zSample[s], front,
-                                                       result[s], depthCode[s]);
+                            std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
+                            depthStencilUpdate<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, result[s], depthCode[s]);
                         }
                     }
                     if constexpr (kHasPs) {
@@ -645,14 +664,14 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             std::uint64_t pass = covered;
                             alignas(64) float zClamped[QuadBlock::kPixels];
                             alignas(64) std::uint32_t incoming[QuadBlock::kPixels];
-                            if constexpr (kDepth == DepthPath::D32 || kDepth == DepthPath::D24) {
+                            if constexpr (kDepth == DepthKernel::Buffer) {
                                 alignas(64) std::uint32_t stored[QuadBlock::kPixels] = {};  // lanes outside `covered` stay 0
                                 for (std::uint64_t m = covered; m != 0; m &= m - 1) {
                                     const int lane = std::countr_zero(m);
                                     const auto [px, py] = pixelOf(lane);
                                     std::memcpy(&stored[lane], dc.depthStencil->texel(px, py), 4);
                                 }
-                                pass = quadBlockDepthTest(block.z, stored, covered, kDepth == DepthPath::D24, dc.ds.desc.depthFunc,
+                                pass = quadBlockDepthTest(block.z, stored, covered, depthD24, dc.ds.desc.depthFunc,
                                                           vp.minDepth, vp.maxDepth, zClamped, incoming);
                             } else {
                                 for (std::uint64_t m = covered; m != 0; m &= m - 1) {
@@ -663,10 +682,10 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
                             // Stores the depth of a passing lane (D24: the three code bytes; the
                             // stencil byte is kept).
                             auto writeDepth = [&](int lane) {
-                                if constexpr (kDepth == DepthPath::D32 || kDepth == DepthPath::D24) {
+                                if constexpr (kDepth == DepthKernel::Buffer) {
                                     if (!dc.ds.desc.depthWriteEnable) return;
                                     const auto [px, py] = pixelOf(lane);
-                                    std::memcpy(dc.depthStencil->texel(px, py), &incoming[lane], kDepth == DepthPath::D32 ? 4 : 3);
+                                    std::memcpy(dc.depthStencil->texel(px, py), &incoming[lane], depthD24 ? 3 : 4);
                                 }
                             };
                             if constexpr (!kMayDiscard)
@@ -840,6 +859,11 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
         static_assert(std::is_same_v<V, typename PS::Varyings>, "the pixel shader must read the vertex shader's varyings");
     }
     const DrawTargets dt = validateDraw(state, targets, mConfig.tileSize);
+    constexpr bool kSingleRate = detail::compiledFor<PS>(SampleRates::Single);
+    constexpr bool kMultiRate = detail::compiledFor<PS>(SampleRates::Multi);
+    if (!kMultiRate && dt.sampleCount > 1)
+        throw std::logic_error("draw: the pixel shader is compiled for single-sample targets only (kSampleRates); the targets have " +
+                               std::to_string(dt.sampleCount) + " samples");
     DrawStats stats;
     if (indices.empty() && vertices.size() % 3 != 0)
         throw std::invalid_argument("draw: vertex count " + std::to_string(vertices.size()) + " is not a multiple of 3");
@@ -897,7 +921,7 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
             const detail::TileBins bins = detail::binTriangles(chunks, dt.width, dt.height, mConfig.tileSize);
             const std::size_t nTiles = bins.tileCount();
             counters.resize(nTiles);
-            auto rasterizeTiles = [&]<DepthPath kDepth, bool kSingleSample>() {
+            auto rasterizeTiles = [&]<detail::DepthKernel kDepth, bool kSingleSample>() {
                 tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTiles, 1), [&](const tbb::blocked_range<std::size_t>& r) {
                     for (std::size_t tileIndex = r.begin(); tileIndex != r.end(); ++tileIndex) {
                         const std::span<const detail::TriangleRef> list(bins.refs.data() + bins.offsets[tileIndex],
@@ -911,17 +935,22 @@ DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std
                     }
                 });
             };
-            // One instantiation per DepthPath and single/multi-sample; chosen here, once per draw.
-            auto rasterizeAll = [&]<DepthPath kDepth>() {
-                if (dt.sampleCount == 1) rasterizeTiles.template operator()<kDepth, true>();
-                else rasterizeTiles.template operator()<kDepth, false>();
-            };
-            switch (dc.ds.path()) {
-            case DepthPath::Off: rasterizeAll.template operator()<DepthPath::Off>(); break;
-            case DepthPath::D32: rasterizeAll.template operator()<DepthPath::D32>(); break;
-            case DepthPath::D24: rasterizeAll.template operator()<DepthPath::D24>(); break;
-            case DepthPath::General: rasterizeAll.template operator()<DepthPath::General>(); break;
+            // Up to four instantiations per pixel shader (detail::DepthKernel, and the sample rates
+            // it is compiled for), chosen here, once per draw. A single-sample draw with a shader
+            // compiled for multisampled targets only runs on the multisample kernel (the same
+            // results: it loops over one sample).
+            if constexpr (kSingleRate) {
+                if (dt.sampleCount == 1) {
+                    switch (detail::depthKernel(dc.ds.path(), true)) {
+                    case detail::DepthKernel::Off: rasterizeTiles.template operator()<detail::DepthKernel::Off, true>(); break;
+                    case detail::DepthKernel::Buffer: rasterizeTiles.template operator()<detail::DepthKernel::Buffer, true>(); break;
+                    case detail::DepthKernel::General: rasterizeTiles.template operator()<detail::DepthKernel::General, true>(); break;
+                    }
+                    stats.binnedTileTriangles += bins.refs.size();
+                    continue;
+                }
             }
+            if constexpr (kMultiRate) rasterizeTiles.template operator()<detail::DepthKernel::General, false>();
             stats.binnedTileTriangles += bins.refs.size();
         }
         for (const detail::TileCounters& c : counters) {
