@@ -48,18 +48,19 @@ std::set<std::pair<int, TexelEncoding>> wantedTextures(const Scene& scene, Textu
 
 TextureMemoryEstimate SceneResources::estimateTextureMemory(const Scene& scene, TexturePolicy policy, std::size_t threads) {
     TextureMemoryEstimate e;
-    std::vector<double> levelZero;
+    std::vector<double> levelZeroWidth;
     for (const auto& [image, encoding] : wantedTextures(scene, policy, true)) {
         const Image& img = scene.images[std::size_t(image)];
         const double texels = double(img.width) * double(img.height);
         // R8G8B8A8 with a full mip chain: at most 4/3 of level 0 (1/4 + 1/16 + ... below it).
         e.textureBytes += texels * 4.0 * 4.0 / 3.0;
-        levelZero.push_back(texels);
+        levelZeroWidth.push_back(double(img.width));
     }
-    // Texture2D::generateMipChain decodes the source level to float4 (16 B per texel) while it
-    // builds the chain; the decodes run in parallel, so the largest `threads` of them at once.
-    std::sort(levelZero.rbegin(), levelZero.rend());
-    for (std::size_t i = 0; i < levelZero.size() && i < std::max<std::size_t>(threads, 1); ++i) e.transientBytes += levelZero[i] * 16.0;
+    // Texture2D::generateMipChain decodes up to 3 source rows to float4 (16 B per texel) while it
+    // builds the chain; the decodes run in parallel, so the widest `threads` of them at once.
+    std::sort(levelZeroWidth.rbegin(), levelZeroWidth.rend());
+    for (std::size_t i = 0; i < levelZeroWidth.size() && i < std::max<std::size_t>(threads, 1); ++i)
+        e.transientBytes += levelZeroWidth[i] * 3.0 * 16.0;
     return e;
 }
 

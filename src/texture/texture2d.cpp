@@ -18,6 +18,7 @@ namespace {
 constexpr std::uint32_t kRgba8BytesPerTexel = 4;     // R8G8B8A8_UNORM(_SRGB)
 constexpr std::uint32_t kFloat4BytesPerTexel = 16;   // R32G32B32A32_FLOAT
 constexpr std::uint32_t kChannels = 4;               // RGBA
+constexpr std::uint32_t kMaxFilterTaps = 3;          // source texels per axis of one mip texel
 
 std::string sourceName(std::string_view source) {
     return source.empty() ? std::string("<unnamed image>") : std::string(source);
@@ -48,7 +49,7 @@ void validateCount(const std::string& source, std::uint32_t width, std::uint32_t
 struct AxisTaps {
     std::uint32_t first = 0;
     std::uint32_t count = 0;
-    std::uint32_t numerator[3] = {0, 0, 0};
+    std::uint32_t numerator[kMaxFilterTaps] = {0, 0, 0};
     std::uint32_t denominator = 1;
 };
 
@@ -123,23 +124,29 @@ void Texture2D::allocateChain(std::uint32_t width, std::uint32_t height, bool ge
 }
 
 void Texture2D::generateMipChain() {
-    std::vector<glm::vec4> decoded;  // the source level as shader values, row-major
+    // The source rows one destination row reads (at most 3: the odd-size filter's taps), decoded
+    // to shader values (sRGB -> linear). Decoding a row at a time, not the whole level, keeps the
+    // peak at 3 rows of float4 instead of 16 B per texel of level 0 (64 MiB for 2048^2).
+    std::vector<glm::vec4> rows;
     for (int level = 1; level < levels(); ++level) {
         const MipLevel& src = mLevels[level - 1];
         const MipLevel& dst = mLevels[level];
         const std::byte* srcBytes = mTexels.data() + src.offsetBytes;
-        decoded.resize(std::size_t(src.width) * src.height);
-        for (std::size_t i = 0; i < decoded.size(); ++i)
-            decoded[i] = decodeTexel(mFormat, srcBytes + i * mBytesPerTexel);  // sRGB -> linear
+        rows.resize(std::size_t(kMaxFilterTaps) * src.width);
 
         std::byte* dstBytes = mTexels.data() + dst.offsetBytes;
         for (std::uint32_t y = 0; y < dst.height; ++y) {
             const AxisTaps tapsY = axisTaps(src.height, y, dst.height);
+            for (std::uint32_t j = 0; j < tapsY.count; ++j) {
+                const std::byte* srcRow = srcBytes + std::size_t(tapsY.first + j) * src.width * mBytesPerTexel;
+                glm::vec4* decoded = rows.data() + std::size_t(j) * src.width;
+                for (std::uint32_t x = 0; x < src.width; ++x) decoded[x] = decodeTexel(mFormat, srcRow + x * mBytesPerTexel);
+            }
             for (std::uint32_t x = 0; x < dst.width; ++x) {
                 const AxisTaps tapsX = axisTaps(src.width, x, dst.width);
                 double sum[kChannels] = {0.0, 0.0, 0.0, 0.0};
                 for (std::uint32_t j = 0; j < tapsY.count; ++j) {
-                    const glm::vec4* row = decoded.data() + std::size_t(tapsY.first + j) * src.width;
+                    const glm::vec4* row = rows.data() + std::size_t(j) * src.width;
                     for (std::uint32_t i = 0; i < tapsX.count; ++i) {
                         // Integer weight <= 8192^2 = 2^26 times a 24-bit float: exact in double.
                         const double weight = double(tapsX.numerator[i] * tapsY.numerator[j]);

@@ -52,7 +52,7 @@ enum class TexturePolicy {
 // What SceneResources will allocate for textures, before it decodes any (scene images' sizes).
 struct TextureMemoryEstimate {
     double textureBytes = 0.0;    // kept: every (image, encoding) pair with its mip chain
-    double transientBytes = 0.0;  // while decoding: float4 copies of the largest levels in flight
+    double transientBytes = 0.0;  // while decoding: the float4 rows of the mip filters in flight
 };
 
 class SceneResources {
