@@ -36,8 +36,8 @@ public:
         if (height != 0) desc_.height = height;
         if (generatorCount)
             for (auto& generator : desc_.generators) generator.count = *generatorCount;
-        scene_ = std::make_unique<Scene>(loadScene(desc_, true, &camera_));
-        resources_ = std::make_unique<SceneResources>(*scene_, nullptr, policy);
+        loaded_ = sharedLoad(desc_, name, policy, generatorCount);
+        camera_ = resolveCamera(desc_, loaded_->scene);  // the camera's aspect follows width/height
     }
 
     // A technique context for this scene on `device` with `options`.
@@ -45,7 +45,7 @@ public:
         TechniqueContext ctx;
         ctx.precision = precision;
         ctx.device = &device;
-        ctx.resources = resources_.get();
+        ctx.resources = &loaded_->resources;
         ctx.camera = camera_;
         ctx.width = desc_.width;
         ctx.height = desc_.height;
@@ -73,16 +73,50 @@ public:
 
     const std::string& name() const { return name_; }
     const SceneDescription& description() const { return desc_; }
-    const Scene& scene() const { return *scene_; }
-    const SceneResources& resources() const { return *resources_; }
+    const Scene& scene() const { return loaded_->scene; }
+    const SceneResources& resources() const { return loaded_->resources; }
     const Camera& camera() const { return camera_; }
 
 private:
     std::string name_;
     SceneDescription desc_;
     Camera camera_;
-    std::unique_ptr<Scene> scene_;
-    std::unique_ptr<SceneResources> resources_;
+    // The scene and its decoded textures depend on the file, the texture policy and the light
+    // count, not on the size: scenes built with the same three share one load (sharedLoad).
+    struct Loaded {
+        Loaded(const SceneDescription& desc, TexturePolicy policy)
+            : scene(loadScene(desc, true, nullptr)), resources(scene, nullptr, policy) {}
+        Scene scene;
+        SceneResources resources;  // holds a pointer to `scene`: Loaded never moves (shared_ptr)
+    };
+    std::shared_ptr<const Loaded> loaded_;
+
+    // The most recent loads, kept so that the tests of one executable decode each bundled scene's
+    // textures once rather than once per test case and technique. Bounded: Sponza's decoded
+    // textures take tens of MiB, more under AddressSanitizer.
+    static std::shared_ptr<const Loaded> sharedLoad(const SceneDescription& desc, const std::string& name,
+                                                    TexturePolicy policy, std::optional<std::uint32_t> generatorCount) {
+        constexpr std::size_t kKeptLoads = 4;
+        struct Entry {
+            std::string name;
+            TexturePolicy policy;
+            std::optional<std::uint32_t> generatorCount;
+            std::shared_ptr<const Loaded> loaded;
+        };
+        static std::vector<Entry> recent;  // most recently used last; doctest runs cases on one thread
+        for (auto it = recent.begin(); it != recent.end(); ++it) {
+            if (it->name == name && it->policy == policy && it->generatorCount == generatorCount) {
+                Entry hit = std::move(*it);
+                recent.erase(it);
+                recent.push_back(std::move(hit));
+                return recent.back().loaded;
+            }
+        }
+        auto loaded = std::make_shared<const Loaded>(desc, policy);
+        if (recent.size() == kKeptLoads) recent.erase(recent.begin());
+        recent.push_back({name, policy, generatorCount, loaded});
+        return loaded;
+    }
 };
 
 // The names of the bundled scenes (scenes/*.json), sorted. Fails the calling test unless the
