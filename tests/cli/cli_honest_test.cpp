@@ -258,6 +258,21 @@ TEST_CASE("cli honest: an unknown technique is an error everywhere (render, buil
 }
 
 TEST_CASE("cli honest: every accepted size renders through every technique: 1x1, 1x16384 and 16384x1, with dumps") {
+    // The default scene's lights and camera over one textured box (BoxTextured, a 256^2 texture):
+    // the sizes are the subject, and 30 renders of the default scene would spend their time
+    // decoding its three 2048^2 textures.
+    const fs::path sceneFile = scratch("extreme-sizes.json");
+    {
+        const fs::path box = fs::path(TESSERA_SOURCE_DIR) / "scenes/khronos/BoxTextured/glTF/BoxTextured.gltf";
+        std::ofstream(sceneFile) << R"({"models": [{"path": ")" << box.string() << R"("}],
+            "camera": {"position": [0.0, 2.2, 7.5], "target": [0.0, 0.8, 0.0], "up": [0.0, 1.0, 0.0],
+                       "fovYDeg": 45, "near": 0.1, "far": 100},
+            "lights": [
+              {"type": "directional", "direction": [-0.4, -1.0, -0.6], "color": [1.0, 0.95, 0.85], "intensity": 0.35},
+              {"type": "point", "position": [-2.5, 2.0, 2.5], "color": [1.0, 0.7, 0.4], "intensity": 1.0, "range": 6.0},
+              {"type": "spot", "position": [0.0, 4.0, 4.0], "direction": [0.0, -0.7, -0.7], "color": [1.0, 1.0, 1.0],
+               "intensity": 1.0, "range": 10.0, "spotAngleDeg": 35}]})";
+    }
     const fs::path out = scratch("extreme.png");
     for (const std::string& id : readyTechniques()) {
         for (const char* size : {"--width 1 --height 1", "--width 1 --height 16384", "--width 16384 --height 1"}) {
@@ -265,7 +280,7 @@ TEST_CASE("cli honest: every accepted size renders through every technique: 1x1,
             CAPTURE(size);
             const fs::path dump = scratch("extreme-dump");
             fs::remove_all(dump);
-            const Run r = run("render default --quiet --threads 2 --technique " + id + " " + size + " --out " + out.string() +
+            const Run r = run("render " + sceneFile.string() + " --quiet --threads 2 --technique " + id + " " + size + " --out " + out.string() +
                               " --dump " + dump.string());
             INFO(r.output);
             CHECK(r.exitCode == 0);
