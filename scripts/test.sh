@@ -19,7 +19,13 @@ fi
 TESSERA_DEPS_EXTRA="clang-14 libclang-rt-14-dev" bash scripts/install-deps.sh
 jobs=2   # CI machines have 2 cores
 started=$SECONDS
-stamp() { echo "test.sh: $1 done at $(( (SECONDS - started) / 60 )) min $(( (SECONDS - started) % 60 )) s"; }
+passStarted=$SECONDS
+minSec() { echo "$(( $1 / 60 )) min $(( $1 % 60 )) s"; }
+# Each pass's own time (build + tests) and the running total, so a slow pass shows in CI's log.
+stamp() {
+  echo "test.sh: $1 took $(minSec $(( SECONDS - passStarted ))), done at $(minSec $(( SECONDS - started )))"
+  passStarted=$SECONDS
+}
 
 # Every pass: -Werror. The GCC pass also compiles the benchmarks (not run: timings are not tests,
 # bench/RESULTS.md), so that bench/ cannot rot; the other passes leave them out.
