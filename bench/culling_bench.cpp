@@ -1,4 +1,4 @@
-// Light-culling benchmark of the tiled techniques (issue 5, Performance) on the 3dgep experiment
+// Light-culling benchmark of the tiled techniques on the 3dgep experiment
 // (3dgep article §5: Sponza, 1280x720, N large or small lights) by tile size and thread count: median
 // pass times after a warm-up, lights per tile and the false-positive rate. Prints a markdown
 // table; command and results in bench/RESULTS.md.
@@ -38,7 +38,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include <tessera/math/screen_to_view.h>
+#include <tessera/gbuffer/screen_to_view.h>
 #include <tessera/scene/scene_file.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The issue-5 sweeps on a many-core host, as recorded in bench/RESULTS.md: (1) light culling of
+# The light-culling and scaling sweeps on a many-core host, as recorded in bench/RESULTS.md: (1) light culling of
 # forward-plus by tile size and forward-plus-amd with 2.5D on and off (culling_bench, each process
 # pinned to 2 cores, 1 and 2 threads), then (2) per-pass frame times of the tiled techniques
 # (technique_sweep.py). Usage: bench/run_device_sweep.sh BIN_DIR OUT_DIR

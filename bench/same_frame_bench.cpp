@@ -189,7 +189,7 @@ fs::path scenesDir() {
 }
 
 // A bundled scene loaded as `tessera render SCENE --lights N --technique ID` loads it
-// (src/cli/main.cpp): scene file, generator counts overridden, camera, textures decoded per the
+// (src/cli/render.cpp): scene file, generator counts overridden, camera, textures decoded per the
 // technique's policy.
 struct LoadedScene {
     SceneDescription desc;

@@ -1,26 +1,38 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages tessera needs (build, tests, benchmarks, llvmpipe peer).
-# Used by both README commands and by .ci/run. Installs only what is missing; runs apt-get
-# as root or through sudo. Set TESSERA_DEPS_EXTRA="clang-14 ..." to add more packages.
+# Installs the Debian 12 packages tessera needs. `install-deps.sh render`: what building and
+# running `tessera` needs (the README's first command, scripts/run.sh); `install-deps.sh` (all):
+# also the tests, benchmarks, llvmpipe peer, report browser and plots (the second command,
+# scripts/test.sh, and .ci/run). Installs only what is missing; runs apt-get as root or through
+# sudo. Set TESSERA_DEPS_EXTRA="clang-14 ..." to add more packages.
 set -euo pipefail
 
+mode=${1:-all}
+if [ "$mode" != render ] && [ "$mode" != all ]; then
+  echo "install-deps: unknown set '$mode' (render, all)" >&2
+  exit 2
+fi
 packages=(
   cmake ninja-build g++ pkg-config
-  libglm-dev libopenimageio-dev openimageio-tools libtbb-dev
-  libtinygltf-dev nlohmann-json3-dev libstb-dev doctest-dev libbenchmark-dev
+  libglm-dev libopenimageio-dev libtbb-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   # portable SIMD with runtime dispatch (the vectorised pixel pipeline)
   libhwy-dev
   # ray casting for forward-plus-amd's many-light shadows (GPU Pro 4 ch. 5 §5.6.2): Intel Embree 3
   libembree-dev
-  # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
-  assimp-testmodels
-  # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)
-  python3-matplotlib
-  # tests/report: the teaching report opened by headless Chromium
-  chromium
-  # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
-  libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
 )
+if [ "$mode" = all ]; then
+  packages+=(
+    # oiiotool (scenes/sponza/README.md: the texture shrink), tests and benchmarks
+    openimageio-tools doctest-dev libbenchmark-dev
+    # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
+    assimp-testmodels
+    # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)
+    python3-matplotlib
+    # tests/report: the teaching report opened by headless Chromium
+    chromium
+    # llvmpipe peer (conformance test and benchmark): EGL surfaceless + desktop GL headers
+    libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  )
+fi
 # shellcheck disable=SC2206
 packages+=(${TESSERA_DEPS_EXTRA:-})
 

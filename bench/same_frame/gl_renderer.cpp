@@ -23,8 +23,8 @@
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/math/det_math.h>
-#include <tessera/math/specular_power_packing.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/gbuffer/specular_power_packing.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/scene/phong_material.h>
 #include <tessera/shading/phong_lighting.h>
 #include <tessera/techniques/deferred_states.h>
@@ -403,7 +403,7 @@ void GlRenderer::Impl::makeTargets() {
             throw std::runtime_error("same_frame: G-buffer framebuffer incomplete");
     }
     // Forward+ buffers: frustums, the two counters, index lists of numTiles * 200 entries
-    // (main.cpp), grids; bound by the passes (forward also binds them, unused).
+    // (3dgep demo's main.cpp), grids; bound by the passes (forward also binds them, unused).
     tiles = tileCount(glm::uvec2(width, height), kTileSizePx);
     const std::uint32_t tileTotal = tiles.x * tiles.y;
     listCapacity = tileTotal * kForwardPlusAverageLightsPerTile;

@@ -103,7 +103,7 @@ void accumulateLight(inout Lit total, uint index, float power, vec4 viewDirView,
     total.specular += r.specular;
 }
 
-// ScreenToView / ClipToView (include/tessera/math/screen_to_view.h): rows as dp4 in x, y, z, w order.
+// ScreenToView / ClipToView (include/tessera/gbuffer/screen_to_view.h): rows as dp4 in x, y, z, w order.
 uniform mat4 uInverseProjection;
 uniform vec2 uScreenDimensions;
 vec4 clipToView(vec4 posClip) {
@@ -380,7 +380,7 @@ void main() {
 )";
 
 // ForwardPlusRendering.hlsl CS_ComputeFrustums: one thread per tile, planes left, right, top,
-// bottom through the eye (include/tessera/math/tile_frustum.h gridFrustum3dgep).
+// bottom through the eye (include/tessera/culling/tile_frustum.h gridFrustum3dgep).
 inline constexpr const char* kFrustumCompute = R"(
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(std430, binding = 1) writeonly buffer Frustums { vec4 frustumPlanes[]; };

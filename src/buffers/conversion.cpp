@@ -1,7 +1,7 @@
 // D3D11.3 scalar data conversions (§3.1.5, §3.1.6, §3.2): normalized integers, float16,
 // float11/float10, sRGB. Bit-exact by construction: integer bit manipulation, one exact double
 // product per normalized conversion, and literal sRGB tables checked by conversion_test.cpp.
-#include "tessera/buffers/conversion.h"
+#include <tessera/buffers/conversion.h>
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
 // The FormatInfo table (one row per tessera::Format, DXGI spelling and layout facts) and the
 // DXGI-name parser used by scene files and the CLI. Sizes follow the DXGI_FORMAT bit layouts
 // (D3D11.3 §19.1.3.1): bytesPerTexel = sum of the component bit counts / 8.
-#include "tessera/buffers/format.h"
+#include <tessera/buffers/format.h>
 
 #include <array>
 #include <cstddef>

@@ -1,7 +1,7 @@
 // Texel encode/decode for tessera's colour formats: packs shader float4 / uint4 values into the
 // D3D11.3 memory layout of each Format and back, through the exact conversions of
 // conversion.cpp. Called per texel by the surface code (render-target writes, texture reads).
-#include "tessera/buffers/texel_codec.h"
+#include <tessera/buffers/texel_codec.h>
 
 #include <bit>
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "tessera/buffers/conversion.h"
+#include <tessera/buffers/conversion.h>
 
 namespace tessera {
 namespace {

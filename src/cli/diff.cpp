@@ -3,7 +3,9 @@
 // RMSE, PSNR, the count of differing pixels, for two float files the largest distance in float32
 // ULPs, and on request a heat-map image of the difference. PSNR follows the usual definition,
 // 20 log10(255 / RMSE) dB (infinite for identical images).
-#include "diff.h"
+#include "commands.h"
+
+#include "arg_cursor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +22,7 @@
 #include <tessera/buffers/surface.h>
 #include <tessera/inspect/buffer_view.h>
 #include <tessera/io/image_writer.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 
 #if !defined(TESSERA_NO_OIIO) && __has_include(<OpenImageIO/imageio.h>)
 #define TESSERA_DIFF_HAS_OIIO 1
@@ -203,8 +205,9 @@ int diffCommand(const std::vector<std::string_view>& args) {
     std::string heatmap;
     double threshold = 0.0;
     try {
-        for (std::size_t i = 0; i < args.size(); ++i) {
-            const std::string_view a = args[i];
+        ArgCursor cursor(args);
+        while (cursor.next()) {
+            const std::string_view a = cursor.flag();
             if (a == "--help" || a == "-h") {
                 std::fputs(kDiffUsage, stdout);
                 return 0;
@@ -212,14 +215,12 @@ int diffCommand(const std::vector<std::string_view>& args) {
             if (a == "--json") json = true;
             else if (a == "--ignore-alpha") ignoreAlpha = true;
             else if (a == "--heatmap") {
-                if (i + 1 >= args.size()) throw DiffUsageError("--heatmap needs a file");
-                heatmap = std::string(args[++i]);
+                heatmap = std::string(cursor.value());
                 if (std::filesystem::path(heatmap).extension() != ".png")
                     throw DiffUsageError("--heatmap: '" + heatmap + "' must end in .png");
             }
             else if (a == "--threshold") {
-                if (i + 1 >= args.size()) throw DiffUsageError("--threshold needs a value");
-                const std::string text(args[++i]);
+                const std::string text(cursor.value());
                 std::size_t used = 0;
                 try {
                     threshold = std::stod(text, &used);
@@ -228,13 +229,16 @@ int diffCommand(const std::vector<std::string_view>& args) {
                 }
                 if (used != text.size() || !(threshold >= 0.0) || !std::isfinite(threshold))
                     throw DiffUsageError("--threshold: '" + text + "' is not a number >= 0 (8-bit code units)");
-            } else if (!a.empty() && a[0] == '-' && a != "-") throw DiffUsageError("unknown option '" + std::string(a) + "'");
+            } else if (cursor.isOption()) throw DiffUsageError("unknown option '" + std::string(a) + "'");
             else files.emplace_back(a);
         }
         if (files.size() != 2)
             throw DiffUsageError("diff needs two images, got " + std::to_string(files.size()) +
                                  (files.empty() ? std::string() : " ('" + files[0] + (files.size() > 1 ? "', ...)" : "')")));
     } catch (const DiffUsageError& e) {
+        std::fprintf(stderr, "tessera diff: %s (see tessera diff --help)\n", e.what());
+        return 2;
+    } catch (const UsageError& e) {  // the argument loop's ("--threshold needs a value")
         std::fprintf(stderr, "tessera diff: %s (see tessera diff --help)\n", e.what());
         return 2;
     }

@@ -2,6 +2,8 @@
 // and every flag, checked against each other before anything loads.
 #include "render_args.h"
 
+#include "arg_cursor.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -78,12 +80,10 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     };
     RenderOptions o;
     bool sceneGiven = false;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string_view a = args[i];
-        auto value = [&]() -> std::string_view {
-            if (i + 1 >= args.size()) throw UsageError(std::string(a) + " needs a value");
-            return args[++i];
-        };
+    ArgCursor cursor(args);
+    while (cursor.next()) {
+        const std::string_view a = cursor.flag();
+        const auto value = [&cursor] { return cursor.value(); };
         if (a == "--help" || a == "-h") help = true;
         else if (a == "--technique") o.technique = std::string(value());
         else if (a == "--option") o.options.push_back(parseOptionArg(value()));
@@ -164,7 +164,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         else if (a == "--stats") o.stats = true;
         else if (a == "--quiet") o.quiet = true;
         else if (a == "--progress") o.progress = Progress::Mode::On;
-        else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera render --help)");
+        else if (cursor.isOption()) throw UsageError("unknown option '" + std::string(a) + "' (see tessera render --help)");
         else if (sceneGiven) throw UsageError("one scene only: '" + o.scene + "' and '" + std::string(a) + "'");
         else {
             o.scene = std::string(a);

@@ -16,7 +16,7 @@
 
 #include <tessera/io/image_writer.h>
 #include <tessera/raster/device.h>
-#include <tessera/scene/precision.h>
+#include <tessera/state/precision.h>
 
 #include "progress.h"
 

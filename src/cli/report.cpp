@@ -1,7 +1,7 @@
 // The teaching report (report.h). Renders each ready technique once at a small size, writing the
 // buffers every pass declares (viewable pictures: inspect/buffer_view.h) after that pass, then
 // index.html beside them: no server, no network, no external scripts; opens from disk.
-#include "report.h"
+#include "commands.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,11 +15,12 @@
 #include <tessera/inspect/buffer_view.h>
 #include <tessera/io/atomic_file.h>
 #include <tessera/io/image_writer.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/scene/default_lights.h>
 #include <tessera/techniques/option_catalog.h>
 #include <tessera/techniques/technique.h>
 
+#include "arg_cursor.h"
 #include "scene_args.h"
 
 namespace tessera::cli {
@@ -213,12 +214,10 @@ int reportCommand(const std::vector<std::string_view>& args) {
     std::optional<std::uint32_t> chosenLight;
     {
         bool sceneGiven = false;
-        for (std::size_t i = 0; i < args.size(); ++i) {
-            const std::string_view a = args[i];
-            auto value = [&]() -> std::string_view {
-                if (i + 1 >= args.size()) throw UsageError(std::string(a) + " needs a value");
-                return args[++i];
-            };
+        ArgCursor cursor(args);
+        while (cursor.next()) {
+            const std::string_view a = cursor.flag();
+            const auto value = [&cursor] { return cursor.value(); };
             if (a == "--help" || a == "-h") {
                 std::fputs(kReportUsage, stdout);
                 return 0;
@@ -228,7 +227,7 @@ int reportCommand(const std::vector<std::string_view>& args) {
             else if (a == "--height") height = parseUint(a, value(), 8, 4096);
             else if (a == "--light") chosenLight = parseUint(a, value(), 0, 1000000);
             else if (a == "--threads") threads = parseUint(a, value(), 0, 256);
-            else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "'");
+            else if (cursor.isOption()) throw UsageError("unknown option '" + std::string(a) + "'");
             else if (sceneGiven) throw UsageError("one scene only");
             else {
                 sceneArg = std::string(a);

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <system_error>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 
 namespace tessera::cli {
 namespace {
@@ -49,6 +49,20 @@ SceneDescription describe(const std::filesystem::path& file) {
     if (file.extension() != ".json")
         throw InputError(file.string() + ": not a scene file (.json) or glTF file (.gltf, .glb)");
     return parseSceneFile(file);
+}
+
+tessera::TechniqueContext frameContext(tessera::Device& device, const tessera::SceneResources& resources, const tessera::Camera& camera,
+                                       const tessera::SceneDescription& desc, const std::filesystem::path& sceneFile) {
+    tessera::TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.camera = camera;
+    ctx.width = desc.width;
+    ctx.height = desc.height;
+    ctx.options = desc.techniqueOptions;
+    ctx.precision = desc.precision;
+    ctx.sceneFile = sceneFile.string();
+    return ctx;
 }
 
 } // namespace tessera::cli

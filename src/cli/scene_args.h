@@ -6,6 +6,7 @@
 #include <string>
 
 #include <tessera/scene/scene_file.h>
+#include <tessera/techniques/technique.h>
 
 #include "render_args.h"
 
@@ -18,5 +19,10 @@ std::filesystem::path bundledScenesDir();
 std::filesystem::path resolveScene(const std::string& arg);
 // The scene description of a scene file, or of a glTF file drawn with the preview technique.
 SceneDescription describe(const std::filesystem::path& file);
+
+// The frame a scene file describes: its camera, size, technique options and precision (render
+// adds samples and statistics).
+TechniqueContext frameContext(Device& device, const SceneResources& resources, const Camera& camera,
+                              const SceneDescription& desc, const std::filesystem::path& sceneFile);
 
 } // namespace tessera::cli

@@ -2,7 +2,7 @@
 // outside strings (a backslash skips the next byte inside a string), no recursion.
 #include <tessera/io/json_depth.h>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 
 namespace tessera {
 

@@ -114,4 +114,9 @@ std::vector<glm::vec3> occluderTrianglesWorld(const SceneResources& resources) {
     return triangles;
 }
 
+const ShadowRayScene& shadowRaySceneOf(const SceneResources& resources) {
+    return resources.derived<ShadowRayScene>(
+        [&] { return std::make_unique<ShadowRayScene>(occluderTrianglesWorld(resources)); });
+}
+
 } // namespace tessera

@@ -37,7 +37,7 @@
 #include <tiny_gltf.h>
 #include <tbb/parallel_for.h>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/io/json_depth.h>
 
 namespace tessera {

@@ -3,7 +3,7 @@
 // the glTF models and builds the light list (explicit, glTF, generated, in that order).
 #include <tessera/scene/scene_file.h>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/io/json_depth.h>
 #include <tessera/scene/gltf_loader.h>
 

@@ -11,14 +11,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include <tessera/raytrace/shadow_ray_scene.h>
 
 namespace tessera {
-
-struct SceneResources::LazyShadowRays {
-    std::once_flag built;
-    std::unique_ptr<ShadowRayScene> scene;
-};
 
 namespace {
 
@@ -66,7 +60,7 @@ TextureMemoryEstimate SceneResources::estimateTextureMemory(const Scene& scene, 
 
 SceneResources::SceneResources(const Scene& scene, const std::function<void(std::size_t, std::size_t)>& progress,
                                TexturePolicy policy)
-    : mScene(&scene), mShadowRays(std::make_unique<LazyShadowRays>()) {
+    : mScene(&scene) {
     // Vertex buffers: one per mesh primitive; instances share them.
     std::vector<std::uint32_t> firstPrimitiveOfMesh(scene.meshes.size(), 0);
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -145,12 +139,5 @@ std::size_t SceneResources::textureBytes() const {
 }
 
 SceneResources::~SceneResources() = default;
-
-const ShadowRayScene& SceneResources::shadowRayScene() const {
-    std::call_once(mShadowRays->built, [this] {
-        mShadowRays->scene = std::make_unique<ShadowRayScene>(occluderTrianglesWorld(*this));
-    });
-    return *mShadowRays->scene;
-}
 
 } // namespace tessera

@@ -187,7 +187,7 @@ PhongVariant selectPhongVariant<double>(std::uint32_t features) {
 
 PhongTextureSet::PhongTextureSet(const SceneResources& resources, PhongSamplerChoice samplers)
     : mResources(&resources), mSamplers(samplers) {
-    // The demo's LinearRepeatSampler: MinLinear, MagLinear, MipLinear, wrap (main.cpp).
+    // The demo's LinearRepeatSampler: MinLinear, MagLinear, MipLinear, wrap (3dgep demo's main.cpp).
     mDemoSampler.minFilter = mDemoSampler.magFilter = mDemoSampler.mipFilter = Filter::Linear;
     mDemoSampler.addressU = mDemoSampler.addressV = AddressMode::Wrap;
     const Scene& scene = resources.scene();

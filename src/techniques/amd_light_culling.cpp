@@ -6,8 +6,8 @@
 #include <tessera/techniques/amd_light_culling.h>
 
 #include <tessera/compute/interlocked.h>
-#include <tessera/math/depth_mask.h>
-#include <tessera/math/screen_to_view.h>
+#include <tessera/culling/depth_mask.h>
+#include <tessera/gbuffer/screen_to_view.h>
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // The `deferred` and `deferred-killzone` techniques (3dgep article §3; the demo's g_DeferredTechnique in
-// main.cpp, DeferredRendering.hlsl PS_Geometry / PS_DeferredLighting, DeferredLightingPass.cpp):
+// 3dgep demo's main.cpp, DeferredRendering.hlsl PS_Geometry / PS_DeferredLighting, DeferredLightingPass.cpp):
 // clear -> G-buffer -> depth copy -> per-light volumes -> (compose / present) -> transparent.
 // Options and buffers are documented in include/tessera/techniques/deferred.h.
 #include <tessera/techniques/deferred.h>
@@ -16,9 +16,9 @@
 #include <glm/ext/matrix_clip_space.hpp>
 
 #include <tessera/buffers/target_reader.h>
-#include <tessera/io/input_error.h>
-#include <tessera/math/screen_to_view.h>
-#include <tessera/math/specular_power_packing.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/gbuffer/screen_to_view.h>
+#include <tessera/gbuffer/specular_power_packing.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
 #include <tessera/techniques/forward.h>

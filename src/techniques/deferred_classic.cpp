@@ -11,9 +11,9 @@
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/buffers/target_reader.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/math/det_math.h>
-#include <tessera/math/prc_gbuffer.h>
+#include <tessera/gbuffer/prc_gbuffer.h>
 #include <tessera/shading/prc_lighting.h>
 #include <tessera/techniques/light_volumes.h>
 #include <tessera/techniques/technique_options.h>

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include <tessera/buffers/target_reader.h>
-#include <tessera/math/cookbook_gbuffer.h>
+#include <tessera/gbuffer/cookbook_gbuffer.h>
 #include <tessera/math/det_math.h>
 #include <tessera/shading/cookbook_lighting.h>
 #include <tessera/shading/phong_surface.h>

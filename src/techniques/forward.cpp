@@ -1,5 +1,5 @@
 // The `forward` technique (3dgep article §1.1 "Definitions"; the demo's g_ForwardTechnique in
-// main.cpp): clear -> opaque pass -> transparent pass, one draw per (instance, primitive) in scene
+// 3dgep demo's main.cpp): clear -> opaque pass -> transparent pass, one draw per (instance, primitive) in scene
 // order, every enabled light per pixel through the specialized Phong pixel shader.
 #include <tessera/techniques/forward.h>
 
@@ -9,7 +9,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/math/projection_terms.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/technique_options.h>
@@ -17,7 +17,7 @@
 namespace tessera {
 namespace {
 
-// The demo's transparent blend (main.cpp alphaBlending: BlendMode(true, false, SrcAlpha,
+// The demo's transparent blend (3dgep demo's main.cpp alphaBlending: BlendMode(true, false, SrcAlpha,
 // OneMinusSrcAlpha) with the BlendMode defaults for alpha: One, Zero, Add).
 constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add,
                                                 Blend::One,  Blend::Zero,     BlendOp::Add,        WriteAll};

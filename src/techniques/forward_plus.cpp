@@ -1,4 +1,4 @@
-// The `forward-plus` technique (3dgep article §4; the demo's g_ForwardPlusTechnique in main.cpp and
+// The `forward-plus` technique (3dgep article §4; the demo's g_ForwardPlusTechnique in its main.cpp and
 // ForwardPlusRendering.hlsl): clear -> depth pre-pass -> CS_ComputeFrustums -> CS_main (light
 // culling: row-parallel, or with culling "brute" emulated with compute::dispatch) -> heat map
 // (CS_main's DebugTexture) -> opaque pass -> transparent pass, the last two through forward's
@@ -22,11 +22,11 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/compute/dispatch.h>
 #include <tessera/compute/ordered_counter.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/math/det_math.h>
-#include <tessera/math/frustum.h>
-#include <tessera/math/tile_depth_range.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/frustum.h>
+#include <tessera/culling/tile_depth_range.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique_options.h>
 
@@ -302,7 +302,7 @@ struct CullLightsKernel {
         });
         // Every thread: uDepth = asuint(DepthTextureVS.Load(texCoord)); InterlockedMin/Max. Only
         // commutative min/max reach the shared values, so tileDepthRange3dgep's loop over the
-        // tile's pixels (out-of-screen loads 0) gives the same bits (math/tile_depth_range.h).
+        // tile's pixels (out-of-screen loads 0) gives the same bits (culling/tile_depth_range.h).
         g.forOneThread(0, [&](const compute::ThreadIds&) {
             const TileDepthRange3dgep range = tileDepthRange3dgep(depth, groupId, kBlock, screenDimensions, inverseProjection);  // every sample
             s.uMinDepth = std::bit_cast<std::uint32_t>(range.minDepth);
@@ -375,7 +375,7 @@ struct CullLightsKernel {
 //  1. per tile, CS_main's depth range from the D24 codes: the min / max of asuint over the
 //     decoded floats is the decode of the min / max code, because d24ToDepth is a correctly
 //     rounded c / (2^24 - 1) (monotone) and non-negative floats order as their bits; an edge
-//     tile's off-screen threads load 0.0f, the smallest value (math/tile_depth_range.h);
+//     tile's off-screen threads load 0.0f, the smallest value (culling/tile_depth_range.h);
 //  2. per light, its tile rectangle (lightTileRect), and the lights bucketed by tile row in
 //     ascending index;
 //  3. per tile row, in parallel: each light of the row against each tile of its columns,
@@ -891,7 +891,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
     st->setup = makeForwardPassSetup(ctx, st->options.projection, st->options.sampler, st->options.alphaTest);
     const std::uint32_t block = st->options.tileSizePx;
     st->tiles = tileCount(glm::uvec2(ctx.width, ctx.height), block);
-    // ScreenToViewParams (main.cpp): InverseProjection = glm::inverse(projection), ScreenDimensions.
+    // ScreenToViewParams (3dgep demo's main.cpp): InverseProjection = glm::inverse(projection), ScreenDimensions.
     st->inverseProjection = glm::inverse(st->setup->clipFromView);
     st->screenDimensions = glm::vec2(float(ctx.width), float(ctx.height));
     st->orthographic = ctx.camera.projection == ProjectionKind::Orthographic;
@@ -962,7 +962,7 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
             if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(referenceBufferTarget(st->setup->sampleCount));
             rt.depthStencil = &reg.get("depth");
             // Both Forward+ pipelines test LESS_EQUAL: the opaque pass against its own pre-pass
-            // depth, the transparent pass without writes (main.cpp).
+            // depth, the transparent pass without writes (3dgep demo's main.cpp).
             ForwardPassOverrides overrides;
             overrides.depthFunc = ComparisonFunc::LessEqual;
             overrides.tileLights = &bound;

@@ -16,11 +16,11 @@
 
 #include <tbb/parallel_for.h>
 
-#include <tessera/io/input_error.h>
-#include <tessera/math/depth_mask.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/culling/depth_mask.h>
 #include <tessera/math/det_math.h>
-#include <tessera/math/screen_to_view.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/gbuffer/screen_to_view.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/shading/amd_lighting.h>
 #include <tessera/shading/phong_material_shader.h>
@@ -584,7 +584,7 @@ void createJobsPass(AmdState& st, Device& device, BufferRegistry& reg) {
 // pixel) and "shadow.counters" (R32_UINT x 5: jobs, occluded, backface-masked, overflow pixels,
 // overflow lights).
 void castRaysPass(AmdState& st, Device& device, const SceneResources& res, BufferRegistry& reg) {
-    const ShadowRayScene& occluders = res.shadowRayScene();
+    const ShadowRayScene& occluders = shadowRaySceneOf(res);
     device.execute([&] { castShadowJobs(shadowPixelsOf(st), st.opaque, st.casters, occluders, st.options.shadowRays, st.shadowJobs); });
     Surface& mask = reg.create("shadow.mask", {st.setup->width, st.setup->height, Format::R32G32B32A32_UINT, 1});
     std::memcpy(mask.bytes().data(), st.shadowJobs.mask.data(), st.shadowJobs.mask.size() * sizeof(std::uint32_t));
@@ -683,7 +683,7 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
                              std::to_string(ctx.width) + " x " + std::to_string(ctx.height) +
                                  " pixels exceed the shadow job's 25-bit pixel index (2^25 = 33,554,432 pixels)");
         st->worldFromClip = glm::inverse(glm::dmat4(st->setup->clipFromView) * glm::dmat4(st->setup->viewFromWorld));
-        (void)ctx.resources->shadowRayScene();  // the BVH: built once per scene, here rather than inside a timed pass
+        (void)shadowRaySceneOf(*ctx.resources);  // the BVH: built once per scene, here rather than inside a timed pass
     }
     if (st->indirectActive && st->options.vpl.grid > st->options.vpl.rsmSize)
         throw inputError(file, "/options/vplGrid",

@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include <tessera/buffers/target_reader.h>
-#include <tessera/math/msaa_edges.h>
+#include <tessera/gbuffer/msaa_edges.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
 #include <tessera/techniques/technique.h>

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include <tessera/buffers/conversion.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/techniques/deferred.h>
 #include <tessera/techniques/deferred_classic.h>
 #include <tessera/techniques/deferred_cookbook.h>

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 
 namespace tessera {
 namespace {

@@ -16,9 +16,9 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/buffers/target_reader.h>
 #include <tessera/compute/dispatch.h>
-#include <tessera/io/input_error.h>
-#include <tessera/math/specular_power_packing.h>
-#include <tessera/math/tile_depth_range.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/gbuffer/specular_power_packing.h>
+#include <tessera/culling/tile_depth_range.h>
 #include <tessera/shading/phong_lighting.h>
 #include <tessera/techniques/deferred.h>
 #include <tessera/techniques/forward.h>

@@ -2,7 +2,7 @@
 // LOD from derivatives with a libm-independent log2, D3D min/max clamps, mip selection, range
 // reduction, point and bilinear filtering of one level, trilinear blend. The per-texel decoder
 // is a template parameter, so each format's path is one inlined loop with no per-texel switch.
-#include "tessera/texture/sampling.h"
+#include <tessera/texture/sampling.h>
 
 #include <array>
 #include <bit>
@@ -12,8 +12,8 @@
 #include <cstring>
 #include <limits>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/math/det_math.h"  // detLog2: LOD without libm
+#include <tessera/buffers/conversion.h>
+#include <tessera/math/det_math.h>  // detLog2: LOD without libm
 
 namespace tessera {
 namespace {

@@ -2,15 +2,15 @@
 // (D3D11 sizes) in one allocation and builds every level below 0 with the box filter documented
 // in texture2d.h, through the texel codec's exact D3D11.3 conversions. Runs once per texture
 // at scene load; sampling (src/texture/sampling.cpp) only reads the result.
-#include "tessera/texture/texture2d.h"
+#include <tessera/texture/texture2d.h>
 
 #include <algorithm>
 #include <bit>
 #include <cstring>
 #include <string>
 
-#include "tessera/buffers/texel_codec.h"
-#include "tessera/io/input_error.h"
+#include <tessera/buffers/texel_codec.h>
+#include <tessera/errors/input_error.h>
 
 namespace tessera {
 namespace {

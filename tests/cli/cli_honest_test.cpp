@@ -41,7 +41,7 @@ Run run(const std::string& args) {
 }
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::current_path() / "cli-honest-out";
+    const fs::path dir = fs::path(TESSERA_TEST_OUTPUT_DIR) / "cli-honest-out";
     fs::create_directories(dir);
     return dir / name;
 }

@@ -91,7 +91,7 @@ Run runWithFileSizeLimit(const std::vector<std::string>& args, rlim_t bytes) {
 }
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::current_path() / "cli-output" / name;
+    const fs::path dir = fs::path(TESSERA_TEST_OUTPUT_DIR) / "cli-output" / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 
@@ -33,7 +34,7 @@ Run run(const std::string& args) {
 }
 
 std::filesystem::path scratch(const std::string& name) {
-    const auto dir = std::filesystem::current_path() / "cli-out";
+    const auto dir = std::filesystem::path(TESSERA_TEST_OUTPUT_DIR) / "cli-out";
     std::filesystem::create_directories(dir);
     return dir / name;
 }
@@ -101,6 +102,10 @@ TEST_CASE("cli: bad usage exits 2 and names the flag and value") {
         {"render --threads -1", "--threads: '-1'"},
         {"render --frobnicate", "unknown option '--frobnicate'"},
         {"render --out", "--out needs a value"},
+        {"render --width=0", "--width: '0'"},                          // GNU --flag=value: the same checks
+        {"render --stats=yes", "--stats takes no value (got 'yes')"},  // a switch given a value
+        {"report --width=abc --out x", "--width: 'abc'"},
+        {"diff --threshold", "--threshold needs a value"},
         {"render --out noextension", "must end in .png or .exr"},
         {"render --out x.jpg", "must end in .png or .exr"},
         {"render --exr quarter", "--exr: 'quarter'"},
@@ -567,4 +572,18 @@ TEST_CASE("cli: a projection whose depth range collapses is rendered with a warn
     CHECK(r.exitCode == 0);
     CHECK(r.output.find("warning: " + scene.string() + ": the depth range collapses: surfaces farther than 3.36 from the eye") !=
           std::string::npos);
+}
+
+TEST_CASE("cli: GNU long options: --flag=value equals --flag value, byte for byte") {
+    const auto spaced = scratch("gnu-spaced.png"), joined = scratch("gnu-joined.png");
+    const Run a = run("render builtin --quiet --width 40 --height 24 --msaa 2 --out " + spaced.string());
+    const Run b = run("render builtin --quiet --width=40 --height=24 --msaa=2 --out=" + joined.string());
+    INFO(a.output << b.output);
+    REQUIRE(a.exitCode == 0);
+    REQUIRE(b.exitCode == 0);
+    std::ifstream fa(spaced, std::ios::binary), fb(joined, std::ios::binary);
+    const std::string bytesA((std::istreambuf_iterator<char>(fa)), std::istreambuf_iterator<char>());
+    const std::string bytesB((std::istreambuf_iterator<char>(fb)), std::istreambuf_iterator<char>());
+    CHECK(!bytesA.empty());
+    CHECK(bytesA == bytesB);
 }

@@ -15,10 +15,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tessera/buffers/format.h"
-#include "tessera/io/input_error.h"
-#include "tessera/scene/depth_precision.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/buffers/format.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/scene/depth_precision.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 
@@ -119,14 +119,15 @@ inline std::string fileNameOf(const std::string& caseName) {
 // Writes extremes-results/<case>.json in the test's working folder (tests/ in the build tree):
 // the recorded errors, which tests/extremes/README.md tabulates.
 inline void record(const CaseReport& r) {
-    std::filesystem::create_directories("extremes-results");
+    const std::filesystem::path dir = std::filesystem::path(TESSERA_TEST_OUTPUT_DIR) / "extremes-results";
+    std::filesystem::create_directories(dir);
     nlohmann::json j{{"case", r.name},
                      {"referenceMaxCodes", r.referenceMaxCodes},
                      {"referencePixels", r.referencePixels},
                      {"nonFiniteTexels", r.nonFiniteTexels},
                      {"techniques", r.checked}};
     for (const auto& [technique, pixels] : r.equalityPixels) j["equalityPixels"][technique] = pixels;
-    std::ofstream("extremes-results/" + fileNameOf(r.name) + ".json") << j.dump(1) << '\n';
+    std::ofstream(dir / (fileNameOf(r.name) + ".json")) << j.dump(1) << '\n';
 }
 
 // Renders `t` as the case says and checks the shared properties; returns what it measured.

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/buffers/texel_codec.h"
-#include "tessera/math/cookbook_gbuffer.h"
-#include "tessera/math/specular_power_packing.h"
+#include <tessera/buffers/conversion.h>
+#include <tessera/buffers/texel_codec.h>
+#include <tessera/gbuffer/cookbook_gbuffer.h>
+#include <tessera/gbuffer/specular_power_packing.h>
 
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/scene/gltf_loader.h>
 #include <tessera/scene/scene.h>
 #include <tessera/scene/scene_file.h>

@@ -12,5 +12,5 @@ execute_process(
   RESULT_VARIABLE _rc)
 if(NOT _rc EQUAL 0)
   message(FATAL_ERROR "${FUZZER} failed (${_rc}); the input is in ${ARTIFACTS}/. Reproduce with `${FUZZER} FILE`, "
-                      "minimise with -minimize_crash=1, and keep it in tests/fuzz/regressions/ (README.md, Fuzzing)")
+                      "minimise with -minimize_crash=1, and keep it in tests/fuzz/regressions/ (docs/testing.md, Fuzzing)")
 endif()

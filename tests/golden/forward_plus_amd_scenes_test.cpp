@@ -13,8 +13,8 @@
 #include <memory>
 #include <set>
 
-#include <tessera/math/depth_mask.h>
-#include <tessera/math/screen_to_view.h>
+#include <tessera/culling/depth_mask.h>
+#include <tessera/gbuffer/screen_to_view.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
 #include <tessera/techniques/forward_plus_amd.h>

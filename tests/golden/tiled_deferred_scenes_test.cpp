@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include <tessera/math/specular_power_packing.h>
+#include <tessera/gbuffer/specular_power_packing.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>

@@ -32,7 +32,7 @@ namespace {
 
 fs::path scratchDir(const std::string& name) {
     // Per process: two builds' test runs at once must not share (and remove_all) each other's files.
-    const fs::path dir = fs::temp_directory_path() / ("tessera-atomic-file-test-" + std::to_string(::getpid())) / name;
+    const fs::path dir = fs::path(TESSERA_TEST_OUTPUT_DIR) / ("atomic-file-test-" + std::to_string(::getpid())) / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;

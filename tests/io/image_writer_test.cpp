@@ -23,7 +23,7 @@ namespace {
 // One folder per test process: ctest runs these cases as parallel processes, and a shared folder
 // let one case see another's temporary ".partial" file (noPartialFiles).
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("tessera-image-writer-test-" + std::to_string(::getpid()));
+    const fs::path dir = fs::path(TESSERA_TEST_OUTPUT_DIR) / ("image-writer-test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     return dir / name;
 }

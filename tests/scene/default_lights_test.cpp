@@ -6,7 +6,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/scene/default_lights.h"
+#include <tessera/scene/default_lights.h>
 
 using namespace tessera;
 

@@ -10,7 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "tessera/raster/pixel_watch.h"
+#include <tessera/raster/pixel_watch.h>
 
 #include "support/room_scene.h"
 

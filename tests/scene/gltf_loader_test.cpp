@@ -17,9 +17,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "tessera/io/input_error.h"
-#include "tessera/scene/gltf_loader.h"
-#include "tessera/scene/scene.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/scene/gltf_loader.h>
+#include <tessera/scene/scene.h>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -34,7 +34,7 @@ constexpr double PI = 3.14159265358979323846;
 constexpr int BYTE = 5120, UBYTE = 5121, SHORT = 5122, USHORT = 5123, UINT = 5125, FLOAT = 5126;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::current_path() / "gltf-out";
+    const fs::path dir = fs::path(TESSERA_TEST_OUTPUT_DIR) / "gltf-out";
     fs::create_directories(dir);
     return dir / name;
 }

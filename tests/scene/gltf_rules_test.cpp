@@ -15,10 +15,10 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/raster/pixel_watch.h"
-#include "tessera/scene/gltf_loader.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/buffers/conversion.h>
+#include <tessera/raster/pixel_watch.h>
+#include <tessera/scene/gltf_loader.h>
+#include <tessera/techniques/technique.h>
 
 using nlohmann::json;
 using namespace tessera;

@@ -1,7 +1,7 @@
 // Tests of the scene file: a good file round-trips every field; every validation error names
 // the file and the JSON-pointer key path; the bundled scenes/*.json parse and their models
 // exist; the schema lists exactly the parser's top-level keys; loadScene builds cameras/lights.
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/scene/scene_file.h>
 
 #include <doctest/doctest.h>
@@ -387,14 +387,14 @@ TEST_CASE("light groups: models and lights list groups 0..7 as bit masks, with t
 }
 
 TEST_CASE("parseSceneFile: a missing file and a file with an error name the file") {
-    const fs::path missing = fs::temp_directory_path() / "tessera-scene-test-does-not-exist.json";
+    const fs::path missing = fs::path(TESSERA_TEST_OUTPUT_DIR) / "tessera-scene-test-does-not-exist.json";
     try {
         tessera::parseSceneFile(missing);
         FAIL("no exception");
     } catch (const InputError& e) {
         CHECK(std::string(e.what()) == missing.string() + ": no such file");
     }
-    const fs::path bad = fs::temp_directory_path() / "tessera-scene-test-bad.json";
+    const fs::path bad = fs::path(TESSERA_TEST_OUTPUT_DIR) / "tessera-scene-test-bad.json";
     {
         std::ofstream out(bad);
         out << scene(R"("resolution": [0, 1])");

@@ -6,7 +6,7 @@
 
 #include <numbers>
 
-#include <tessera/math/prc_gbuffer.h>
+#include <tessera/gbuffer/prc_gbuffer.h>
 #include <tessera/techniques/cookbook_volumes.h>
 #include <tessera/techniques/light_volumes.h>
 

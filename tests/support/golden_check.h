@@ -20,7 +20,7 @@ namespace tessera::test {
 
 inline void checkGolden(const Surface& actual, const std::string& group, const std::string& name) {
     const std::filesystem::path golden = std::filesystem::path(TESSERA_SOURCE_DIR) / "golden" / group / (name + ".png");
-    const std::filesystem::path outDir = std::filesystem::current_path() / "golden-out" / group;
+    const std::filesystem::path outDir = std::filesystem::path(TESSERA_TEST_OUTPUT_DIR) / "golden-out" / group;
     std::filesystem::create_directories(outDir);
     const std::string actualPath = (outDir / (name + ".actual.png")).string();
     writeSurface(actual, actualPath);

@@ -14,7 +14,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/techniques/technique.h"
+#include <tessera/techniques/technique.h>
 
 #include "support/surface_compare.h"
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "tessera/buffers/surface.h"
+#include <tessera/buffers/surface.h>
 
 namespace tessera::test {
 

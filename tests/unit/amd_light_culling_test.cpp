@@ -17,7 +17,7 @@
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
 
-#include <tessera/math/depth_mask.h>
+#include <tessera/culling/depth_mask.h>
 #include <tessera/scene/light_generator.h>
 #include <tessera/techniques/amd_light_culling.h>
 

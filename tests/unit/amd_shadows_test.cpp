@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/amd_shadow_rays.h"
-#include "tessera/techniques/forward.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/amd_shadow_rays.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

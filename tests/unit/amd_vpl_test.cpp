@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "tessera/buffers/surface.h"
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/amd_vpl.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/buffers/surface.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/amd_vpl.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

@@ -4,8 +4,8 @@
 
 #include <cstring>
 
-#include "tessera/buffers/texel_codec.h"
-#include "tessera/inspect/buffer_view.h"
+#include <tessera/buffers/texel_codec.h>
+#include <tessera/inspect/buffer_view.h>
 
 using namespace tessera;
 

@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include "tessera/buffers/conversion.h"
+#include <tessera/buffers/conversion.h>
 
 using namespace tessera::convert;
 

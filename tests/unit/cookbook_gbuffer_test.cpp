@@ -1,4 +1,4 @@
-// The HLSL Development Cookbook's G-buffer math (math/cookbook_gbuffer.h) against the chapter's
+// The HLSL Development Cookbook's G-buffer math (gbuffer/cookbook_gbuffer.h) against the chapter's
 // formulas worked by hand and against geometric truth: specular power packing through the 8-bit
 // target, the printed double decode (ERRATA.md), the normal through R11G11B10_FLOAT, linear depth
 // and world position reconstruction of projected points.
@@ -9,9 +9,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/buffers/surface.h"
-#include "tessera/math/cookbook_gbuffer.h"
+#include <tessera/buffers/conversion.h>
+#include <tessera/buffers/surface.h>
+#include <tessera/gbuffer/cookbook_gbuffer.h>
 
 using namespace tessera;
 

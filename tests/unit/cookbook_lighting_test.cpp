@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tessera/shading/cookbook_lighting.h"
+#include <tessera/shading/cookbook_lighting.h>
 
 using namespace tessera;
 

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <random>
 
-#include "tessera/techniques/cookbook_volumes.h"
+#include <tessera/techniques/cookbook_volumes.h>
 
 using namespace tessera;
 

@@ -15,8 +15,8 @@
 
 #include <glm/ext/matrix_clip_space.hpp>
 
-#include <tessera/math/frustum.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/frustum.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/scene/light_generator.h>
 
 using namespace tessera;

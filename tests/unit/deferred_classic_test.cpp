@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "tessera/io/input_error.h"
+#include <tessera/errors/input_error.h>
 
 #include "support/room_scene.h"
 

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "tessera/buffers/texel_codec.h"
+#include <tessera/buffers/texel_codec.h>
 
 #include "support/room_scene.h"
 

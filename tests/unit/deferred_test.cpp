@@ -13,10 +13,10 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/deferred.h"
-#include "tessera/techniques/light_volumes.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/deferred.h>
+#include <tessera/techniques/light_volumes.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

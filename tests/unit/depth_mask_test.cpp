@@ -1,4 +1,4 @@
-// AMD depth-direction culling (math/depth_mask.h): hand-derived 2.5D cells and masks (GPU Pro 4
+// AMD depth-direction culling (culling/depth_mask.h): hand-derived 2.5D cells and masks (GPU Pro 4
 // §5.6.1 as tessera reads it), the degenerate pitch-0 and NaN cases, the GPU Pro 4 tile mask from a
 // depth image, half-Z, and property tests against geometric truth: over random tiles and spheres,
 // a light whose depth extent contains a pixel of the tile is never rejected; the rejection rates
@@ -15,7 +15,7 @@
 
 #include <glm/ext/matrix_clip_space.hpp>
 
-#include <tessera/math/depth_mask.h>
+#include <tessera/culling/depth_mask.h>
 #include <tessera/scene/light_generator.h>
 
 using namespace tessera;

@@ -9,7 +9,7 @@
 #include <initializer_list>
 #include <limits>
 
-#include "tessera/math/det_math.h"
+#include <tessera/math/det_math.h>
 
 using namespace tessera;
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/buffers/format.h"
-#include "tessera/buffers/texel_codec.h"
+#include <tessera/buffers/conversion.h>
+#include <tessera/buffers/format.h>
+#include <tessera/buffers/texel_codec.h>
 
 using tessera::Format;
 using tessera::FormatKind;

@@ -12,12 +12,12 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/io/input_error.h"
-#include "tessera/shading/tile_heat_colors.h"
-#include "tessera/techniques/amd_light_culling.h"
-#include "tessera/techniques/forward_plus.h"
-#include "tessera/techniques/forward_plus_amd.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/shading/tile_heat_colors.h>
+#include <tessera/techniques/amd_light_culling.h>
+#include <tessera/techniques/forward_plus.h>
+#include <tessera/techniques/forward_plus_amd.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

@@ -11,9 +11,9 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/forward_plus.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/forward_plus.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

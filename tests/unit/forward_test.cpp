@@ -7,9 +7,9 @@
 #include <map>
 #include <string>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/forward.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

@@ -11,8 +11,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "tessera/inspect/pixel_history.h"
-#include "tessera/shading/phong_lighting.h"
+#include <tessera/inspect/pixel_history.h>
+#include <tessera/shading/phong_lighting.h>
 
 #include "support/room_scene.h"
 

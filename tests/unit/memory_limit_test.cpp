@@ -3,8 +3,8 @@
 // the bytes a real frame holds), so a render can be refused before its frame is built.
 #include <doctest/doctest.h>
 
-#include "tessera/frame/memory_limit.h"
-#include "tessera/inspect/buffer_registry.h"
+#include <tessera/frame/memory_limit.h>
+#include <tessera/frame/buffer_registry.h>
 
 #include "support/room_scene.h"
 

@@ -16,10 +16,10 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/math/msaa_edges.h"
-#include "tessera/raster/sample_pattern.h"
-#include "tessera/techniques/forward.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/gbuffer/msaa_edges.h>
+#include <tessera/raster/sample_pattern.h>
+#include <tessera/techniques/forward.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

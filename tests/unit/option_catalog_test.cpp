@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/option_catalog.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/option_catalog.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
 

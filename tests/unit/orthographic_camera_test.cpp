@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include <tessera/buffers/conversion.h>
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 #include <tessera/techniques/forward.h>
 
 #include "support/room_scene.h"

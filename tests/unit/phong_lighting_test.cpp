@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "tessera/shading/phong_lighting.h"
+#include <tessera/shading/phong_lighting.h>
 
 using namespace tessera;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "tessera/shading/phong_material_shader.h"
+#include <tessera/shading/phong_material_shader.h>
 
 using namespace tessera;
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "tessera/inspect/pixel_history.h"
+#include <tessera/inspect/pixel_history.h>
 
 #include "support/room_scene.h"
 

@@ -1,4 +1,4 @@
-// Hand-derived cases for the 3dgep plane and frustum tests (math/plane.h, math/frustum.h;
+// Hand-derived cases for the 3dgep plane and frustum tests (culling/plane.h, culling/frustum.h;
 // 3dgep article §4): ComputePlane, point / sphere / cone against a plane, sphere / cone against a frustum with
 // its near and far range, and the concrete case in which the article's cone test (m not
 // normalized) culls a cone that crosses the plane while the corrected test keeps it.
@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include <tessera/math/frustum.h>
-#include <tessera/math/plane.h>
+#include <tessera/culling/frustum.h>
+#include <tessera/culling/plane.h>
 
 using namespace tessera;
 

@@ -1,4 +1,4 @@
-// PR&C D3D11 ch. 11's G-buffer math (math/prc_gbuffer.h) and lighting (shading/prc_lighting.h)
+// PR&C D3D11 ch. 11's G-buffer math (gbuffer/prc_gbuffer.h) and lighting (shading/prc_lighting.h)
 // against values worked by hand from the printed listings, and against geometric truth: the
 // sphere-map codec round-trips every normal but the two poles (NaN, which the chapter never
 // mentions), Eq. 11.3's sign, linear depth, the scissor rectangle contains the sphere's projection.
@@ -9,9 +9,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "tessera/buffers/surface.h"
-#include "tessera/math/prc_gbuffer.h"
-#include "tessera/shading/prc_lighting.h"
+#include <tessera/buffers/surface.h>
+#include <tessera/gbuffer/prc_gbuffer.h>
+#include <tessera/shading/prc_lighting.h>
 
 using namespace tessera;
 

@@ -11,7 +11,7 @@
 #include <glm/ext/matrix_clip_space.hpp>
 
 #include <tessera/buffers/conversion.h>
-#include <tessera/math/screen_to_view.h>
+#include <tessera/gbuffer/screen_to_view.h>
 
 using namespace tessera;
 

@@ -8,7 +8,7 @@
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/buffers/surface.h>
-#include <tessera/math/specular_power_packing.h>
+#include <tessera/gbuffer/specular_power_packing.h>
 
 using namespace tessera;
 

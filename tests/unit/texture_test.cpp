@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "tessera/buffers/conversion.h"
-#include "tessera/io/input_error.h"
-#include "tessera/texture/sampling.h"
-#include "tessera/texture/texture2d.h"
+#include <tessera/buffers/conversion.h>
+#include <tessera/errors/input_error.h>
+#include <tessera/texture/sampling.h>
+#include <tessera/texture/texture2d.h>
 
 using namespace tessera;
 

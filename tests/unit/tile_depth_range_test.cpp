@@ -1,4 +1,4 @@
-// Per-tile depth ranges as the culling kernels compute them (math/tile_depth_range.h): hand-
+// Per-tile depth ranges as the culling kernels compute them (culling/tile_depth_range.h): hand-
 // derived 3dgep, AMD and Intel cases with exact projections, the edge-tile behaviour of each
 // kernel (an out-of-range Load returns 0), and the plain loops against the same reduction run
 // through the compute emulation (compute/dispatch.h) with D3D11 out-of-bounds loads.
@@ -12,7 +12,7 @@
 
 #include <tessera/compute/dispatch.h>
 #include <tessera/compute/resources.h>
-#include <tessera/math/tile_depth_range.h>
+#include <tessera/culling/tile_depth_range.h>
 
 #include "support/unit_projections.h"
 

@@ -1,4 +1,4 @@
-// Tile frustums built the three ways of math/tile_frustum.h: one hand-derived tile through all
+// Tile frustums built the three ways of culling/tile_frustum.h: one hand-derived tile through all
 // three constructions, the tile-frustum note's 600x600 / 10-pixel-tile worked example, agreement
 // of the three on every tile of a 1280x720 grid (after conversion to the common convention), and
 // the two source errata: Intel's 2010 planes span 2x2 tiles, AMD's padded-grid corners miss pixel rows.
@@ -9,7 +9,7 @@
 
 #include <glm/ext/matrix_clip_space.hpp>
 
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/tile_frustum.h>
 
 #include "support/unit_projections.h"
 

@@ -12,11 +12,11 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "tessera/io/input_error.h"
-#include "tessera/techniques/technique.h"
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/technique.h>
 
 #include "support/room_scene.h"
-#include "tessera/techniques/tiled_deferred.h"
+#include <tessera/techniques/tiled_deferred.h>
 
 using namespace tessera;
 using namespace tessera::test;

@@ -7,7 +7,7 @@
 
 #include <glm/glm.hpp>
 
-#include "tessera/buffers/format.h"
+#include <tessera/buffers/format.h>
 
 namespace tessera {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <tessera/inspect/buffer_registry.h>
+#include <tessera/frame/buffer_registry.h>
 
 namespace tessera {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include <tessera/io/input_error.h>
+#include <tessera/errors/input_error.h>
 
 namespace tessera {
 

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <tessera/inspect/buffer_registry.h>
+#include <tessera/frame/buffer_registry.h>
 #include <tessera/raster/pixel_watch.h>
 
 namespace tessera {

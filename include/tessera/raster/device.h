@@ -38,7 +38,7 @@ struct DrawStats {
     std::uint64_t quads = 0;                // 2x2 quads with at least one covered sample
     std::uint64_t psInvocations = 0;        // pixel (or sample) shader calls, helpers excluded
     std::uint64_t psPerSample = 0;          // of psInvocations, those of shaders that run per sample
-    // MSAA deferred techniques (techniques/msaa_edges.h): pixels the edge pass classified and
+    // MSAA deferred techniques (src/techniques/msaa_deferred.h, gbuffer/msaa_edges.h): pixels the edge pass classified and
     // those it marked for per-sample shading; compute passes that shade G-buffers count their
     // per-pixel and per-sample shading here too (shader draws count in psInvocations).
     std::uint64_t edgeTestedPixels = 0, edgePixels = 0;

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include <tessera/buffers/surface.h>
-#include <tessera/scene/precision.h>
+#include <tessera/state/precision.h>
 #include <tessera/state/blend_state.h>
 #include <tessera/state/depth_stencil_state.h>
 #include <tessera/state/rasterizer_state.h>

@@ -15,38 +15,11 @@
 #include <glm/vec4.hpp>
 
 #include <tessera/buffers/format.h>
+#include <tessera/shading/light_term.h>
 #include <tessera/shaders/shader_stages.h>
 #include <tessera/state/depth_stencil_state.h>
 
 namespace tessera {
-
-// One light as the watched pixel's shader evaluated it. The light loops leave these while
-// watchedLightTerms() is set, which the rasterizer (and the tiled compute passes) do only around
-// the watched pixel's shader: elsewhere the loops pay one thread-local load per pixel.
-struct LightTerm {
-    // Why the loop added nothing without evaluating the light (None: it was evaluated).
-    enum class Skip : std::uint8_t { None, Disabled, OutOfRange, OutsideCone };
-    std::uint32_t light = 0;  // scene light index
-    Skip skip = Skip::None;
-    float distance = 0.0f;    // surface to light, in the shading space's units (0: directional)
-    float range = std::numeric_limits<float>::infinity();  // where the light's falloff ends
-    float nDotL = 0.0f;       // dot(N, L) before clamping: <= 0 means the surface faces away
-    float falloff = 1.0f;     // distance attenuation (1 where the model has none)
-    float cone = 1.0f;        // spot cone factor (1 for other lights)
-    glm::vec4 diffuse{0.0f}, specular{0.0f};  // what the light added (combined: all of it in diffuse)
-    bool combined = false;    // the model adds one colour per light (Intel's AccumulateBRDF)
-};
-
-// LightTerm::light of a pass that is no scene light (the Cookbook's ambient-only quad).
-inline constexpr std::uint32_t kAmbientLightTerm = 0xFFFFFFFFu;
-
-namespace detail {
-inline thread_local std::vector<LightTerm>* tWatchedLightTerms = nullptr;
-} // namespace detail
-
-// Where the light loops record LightTerms now: non-null only while the watched pixel shades.
-inline std::vector<LightTerm>* watchedLightTerms() { return detail::tWatchedLightTerms; }
-inline void setWatchedLightTerms(std::vector<LightTerm>* terms) { detail::tWatchedLightTerms = terms; }
 
 struct PixelDrawEvent {
     std::uint64_t draw = 0;       // the device's draw number (every draw() call counts, from 0)

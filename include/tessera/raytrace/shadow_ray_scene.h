@@ -1,7 +1,7 @@
 // Occlusion queries for shadow rays (GPU Pro 4 ch. 5 §5.6.2): the world-space triangles of a
 // scene's opaque draw items in an Intel Embree 3 BVH, traversed in Embree's robust (watertight)
 // mode so that a ray's answer does not depend on the BVH a build happened to make. Built once per
-// SceneResources (SceneResources::shadowRayScene) and shared by every frame; Embree stays private.
+// SceneResources (shadowRaySceneOf) and shared by every frame; Embree stays private.
 #pragma once
 
 #include <cstddef>
@@ -46,5 +46,9 @@ private:
 // transparent (alpha blended), transformed by its worldFromObject in float, in draw-item order.
 // Alpha-tested (MASK) materials occlude as opaque triangles: no alpha test on shadow rays.
 std::vector<glm::vec3> occluderTrianglesWorld(const SceneResources& resources);
+
+// The BVH of occluderTrianglesWorld(resources), built on the first call for these resources
+// (thread safe, SceneResources::derived) and the same object for every frame of the scene.
+const ShadowRayScene& shadowRaySceneOf(const SceneResources& resources);
 
 } // namespace tessera

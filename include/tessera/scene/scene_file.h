@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <tessera/scene/light_generator.h>
-#include <tessera/scene/precision.h>
+#include <tessera/state/precision.h>
 #include <tessera/scene/scene.h>
 
 namespace tessera {

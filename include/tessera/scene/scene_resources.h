@@ -8,6 +8,8 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <typeindex>
 #include <utility>
 #include <vector>
 
@@ -17,8 +19,6 @@
 #include <tessera/texture/texture2d.h>
 
 namespace tessera {
-
-class ShadowRayScene;
 
 struct SceneVertex {
     glm::vec3 posObject{0.0f};
@@ -78,9 +78,16 @@ public:
     const Material& material(int index) const;
     std::size_t textureCount() const { return mTextures.size(); }
     std::size_t textureBytes() const;
-    // The opaque triangles' Embree BVH for shadow rays (raytrace/shadow_ray_scene.h): built on
-    // the first call (thread safe), then the same object for every frame of this scene.
-    const ShadowRayScene& shadowRayScene() const;
+    // An object derived from these resources by a layer above (raytrace/shadow_ray_scene.h's
+    // BVH: shadowRaySceneOf), built by `make()` (a std::unique_ptr<T>) on the first call, thread
+    // safe, then the same object for every frame of this scene; one per type T.
+    template <class T, class Make>
+    const T& derived(Make&& make) const {
+        std::lock_guard<std::mutex> lock(mDerived->mutex);
+        std::shared_ptr<const void>& slot = mDerived->objects[std::type_index(typeid(T))];
+        if (!slot) slot = std::shared_ptr<const T>(make());
+        return *static_cast<const T*>(slot.get());
+    }
 
 private:
     const Scene* mScene;
@@ -89,8 +96,11 @@ private:
     std::map<std::pair<int, TexelEncoding>, Texture2D> mTextures;  // (image, encoding)
     Material mDefaultMaterial;
     SamplerState mDefaultSampler;
-    struct LazyShadowRays;
-    std::unique_ptr<LazyShadowRays> mShadowRays;
+    struct Derived {
+        std::mutex mutex;
+        std::map<std::type_index, std::shared_ptr<const void>> objects;
+    };
+    std::unique_ptr<Derived> mDerived = std::make_unique<Derived>();
 };
 
 } // namespace tessera

@@ -12,7 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <tessera/buffers/conversion.h>
-#include <tessera/raster/pixel_watch.h>
+#include <tessera/shading/light_term.h>
 #include <tessera/shading/phong_lighting.h>
 
 namespace tessera {

@@ -13,7 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <tessera/math/det_math.h>
-#include <tessera/raster/pixel_watch.h>
+#include <tessera/shading/light_term.h>
 #include <tessera/scene/light.h>
 
 namespace tessera {

@@ -213,7 +213,7 @@ struct PhongPS {
 
 // How the 3dgep techniques read textures.
 enum class PhongSamplerChoice {
-    Demo,  // the demo's LinearRepeatSampler for every slot: trilinear, wrap (main.cpp)
+    Demo,  // the demo's LinearRepeatSampler for every slot: trilinear, wrap (3dgep demo's main.cpp)
     Gltf   // each texture's glTF sampler
 };
 

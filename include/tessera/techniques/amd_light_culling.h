@@ -1,7 +1,7 @@
 // AMD Forward+ light culling on the CPU: GPU Pro 4's gather kernel (ch. 5 §5.3.1) over 8x8 tiles,
 // one thread group per tile, with the two-level light list (a group-shared list of
 // LIGHT_CAPACITY = 256, then one global index pool with per-tile offsets), optional 2.5D culling
-// (GPU Pro 4 §5.6.1, math/depth_mask.h), run through compute/dispatch.h. Input: a depth buffer and the
+// (GPU Pro 4 §5.6.1, culling/depth_mask.h), run through compute/dispatch.h. Input: a depth buffer and the
 // lights' bounding spheres in AMD's left-handed view space; output: the pool and per-tile ranges
 // the forward-plus-amd shading pass reads. Caller: the forward-plus-amd technique and its tests.
 #pragma once
@@ -13,15 +13,15 @@
 #include <glm/glm.hpp>
 
 #include <tessera/compute/dispatch.h>
-#include <tessera/math/tile_depth_range.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/tile_depth_range.h>
+#include <tessera/culling/tile_frustum.h>
 
 namespace tessera {
 
 inline constexpr std::uint32_t kAmdTileSizePx = 8;       // GPU Pro 4 §5.3.1: 8x8 px tiles, 64 threads a group
 inline constexpr std::uint32_t kAmdLightCapacity = 256;  // GPU Pro 4 §5.3.1: LIGHT_CAPACITY, group-shared list entries
 
-// How the tile's depth range is read from the depth buffer (math/tile_depth_range.h).
+// How the tile's depth range is read from the depth buffer (culling/tile_depth_range.h).
 enum class AmdDepthConvention : std::uint8_t {
     GpuPro4,        // GPU Pro 4 §5.3.1: depth cleared to 1.0 (skipped), z = projToView(depth).z; edge
                     // threads load 0 and add the near plane to the minimum (tileViewZBitsAmdGpuPro4)
@@ -57,7 +57,7 @@ struct AmdCullingOptions {
     AmdDepthConvention depthConvention = AmdDepthConvention::GpuPro4;
     AmdDepthCulling depthCulling = AmdDepthCulling::MinMax;
     AmdDepthRange range = AmdDepthRange::Opaque;
-    // TiledLighting11's half-Z split (math/depth_mask.h sphereOverlapsHalfZAmd): two lists per
+    // TiledLighting11's half-Z split (culling/depth_mask.h sphereOverlapsHalfZAmd): two lists per
     // tile, A over [minZ, halfZ] (tileOffset / tileLightCount) and B over [halfZ, maxZ]
     // (tileOffsetFar / tileLightCountFar), each its own group-shared list of LIGHT_CAPACITY; the
     // tile reserves countA + countB pool entries, A first. With 2.5D the mask test applies too.

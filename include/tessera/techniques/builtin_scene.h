@@ -6,7 +6,7 @@
 
 #include <tessera/frame/frame.h>
 #include <tessera/raster/device.h>
-#include <tessera/scene/precision.h>
+#include <tessera/state/precision.h>
 
 namespace tessera {
 

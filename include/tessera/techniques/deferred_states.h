@@ -1,5 +1,5 @@
 // Fixed-function states of the deferred techniques: the 3dgep G-buffer pass, per-light
-// unmark and shade passes and the directional full-screen quad (3dgep article §3.3, demo main.cpp
+// unmark and shade passes and the directional full-screen quad (3dgep article §3.3, 3dgep demo's main.cpp
 // and DeferredLightingPass.cpp), and the Killzone 2 mark / count / shade variant the
 // article describes but does not use. The deferred and deferred-killzone techniques bind these.
 #pragma once
@@ -47,8 +47,8 @@ constexpr DepthStencilState depthTestNoWrite(ComparisonFunc func) {
 constexpr PassState gbuffer() {
     PassState p;
     p.rasterizer = demoRasterizer(CullMode::Back, true);
-    // main.cpp g_pGeometryPipeline: the demo's DepthMode defaults, depth on, write on, LESS;
-    // stencil off (the G-buffer clear leaves stencil 0, demo main.cpp).
+    // 3dgep demo's main.cpp g_pGeometryPipeline: the demo's DepthMode defaults, depth on, write on, LESS;
+    // stencil off (the G-buffer clear leaves stencil 0, 3dgep demo's main.cpp).
     p.depthStencil.depthEnable = true;
     p.depthStencil.depthWriteEnable = true;
     p.depthStencil.depthFunc = ComparisonFunc::Less;
@@ -58,12 +58,12 @@ constexpr PassState gbuffer() {
 
 constexpr PassState unmark() {
     PassState p;
-    // 3dgep article §3.3.1 Unmark Pixels: cull BACK "to render only the front faces"; main.cpp
+    // 3dgep article §3.3.1 Unmark Pixels: cull BACK "to render only the front faces"; 3dgep demo's main.cpp
     // g_pDeferredLightingPipeline1: SetCullMode(Back), SetDepthClipEnabled(true).
     p.rasterizer = demoRasterizer(CullMode::Back, true);
-    // Article §3.3.1: depth test on, writes off, function GREATER (main.cpp DepthFunction = Greater).
+    // Article §3.3.1: depth test on, writes off, function GREATER (3dgep demo's main.cpp DepthFunction = Greater).
     p.depthStencil = depthTestNoWrite(ComparisonFunc::Greater);
-    // Article §3.3.1: stencil on, function ALWAYS, DECR_SAT on depth pass; main.cpp
+    // Article §3.3.1: stencil on, function ALWAYS, DECR_SAT on depth pass; 3dgep demo's main.cpp
     // StencilReference = 1, FrontFace.StencilDepthPass = DecrementClamp, masks 0xFF (defaults);
     // BackFace keeps the defaults {KEEP, KEEP, KEEP, ALWAYS} (demo DepthStencilState.h).
     p.depthStencil.stencilEnable = true;
@@ -78,11 +78,11 @@ constexpr PassState unmark() {
 constexpr PassState shade() {
     PassState p;
     // Article §3.3.2 Shade Pixels: cull FRONT (back faces only), depth clipping disabled;
-    // main.cpp g_pDeferredLightingPipeline2: SetCullMode(Front), SetDepthClipEnabled(false).
+    // 3dgep demo's main.cpp g_pDeferredLightingPipeline2: SetCullMode(Front), SetDepthClipEnabled(false).
     p.rasterizer = demoRasterizer(CullMode::Front, false);
-    // Article §3.3.2: depth test on, writes off, function GREATER_EQUAL (main.cpp GreaterOrEqual).
+    // Article §3.3.2: depth test on, writes off, function GREATER_EQUAL (3dgep demo's main.cpp GreaterOrEqual).
     p.depthStencil = depthTestNoWrite(ComparisonFunc::GreaterEqual);
-    // Article §3.3.2: stencil reference 1, function EQUAL, ops KEEP; main.cpp sets it on BackFace only,
+    // Article §3.3.2: stencil reference 1, function EQUAL, ops KEEP; 3dgep demo's main.cpp sets it on BackFace only,
     // FrontFace keeps the defaults {KEEP, KEEP, KEEP, ALWAYS} (front faces are culled anyway).
     p.depthStencil.stencilEnable = true;
     p.depthStencil.stencilReadMask = 0xFF;
@@ -97,10 +97,10 @@ constexpr PassState shade() {
 
 constexpr PassState directional() {
     PassState p;
-    // main.cpp g_pDirectionalLightsPipeline: rasterizer defaults; the quad
+    // 3dgep demo's main.cpp g_pDirectionalLightsPipeline: rasterizer defaults; the quad
     // CreateScreenQuad(-1,1,-1,1,-1) under ortho(-1,1,-1,1,0,1) lies at depth 1 (far plane).
     p.rasterizer = demoRasterizer(CullMode::Back, true);
-    // main.cpp: depth on, writes off, GREATER ("only light pixels in front of the quad",
+    // 3dgep demo's main.cpp: depth on, writes off, GREATER ("only light pixels in front of the quad",
     // excluding sky pixels at the cleared depth 1); stencil off; additive blending.
     p.depthStencil = depthTestNoWrite(ComparisonFunc::Greater);
     p.depthStencil.stencilEnable = false;

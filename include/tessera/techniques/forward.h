@@ -42,7 +42,7 @@ Frame buildForward(const TechniqueContext& context);
 
 enum class ProjectionConvention { DemoGl, D3d };
 
-// The 3dgep demo's clear colour (main.cpp g_ClearColor, cornflower blue), used by every technique
+// The 3dgep demo's clear colour (its main.cpp g_ClearColor, cornflower blue), used by every technique
 // that follows the demo so that their images compare; depth clears to 1, stencil to 0.
 inline constexpr glm::vec4 kDemoClearColor{0.39f, 0.58f, 0.93f, 1.0f};
 

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include <tessera/inspect/buffer_registry.h>
+#include <tessera/frame/buffer_registry.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/technique.h>
 
@@ -30,7 +30,7 @@ namespace tessera {
 //       the grid keeps the full count, and the copy to the global list reads the missing
 //       entries as 0 (an out-of-bounds group-shared read, undefined in D3D11.3; tessera reads 0,
 //       as every other out-of-bounds read does), so light 0 takes their place. Global lists of
-//       numTiles * 200 entries (main.cpp; "an average of 200 lights per tile", 3dgep article §4.3.2):
+//       numTiles * 200 entries (3dgep demo's main.cpp; "an average of 200 lights per tile", 3dgep article §4.3.2):
 //       the counter keeps growing past the end, writes past it are discarded (D3D11.3 UAV
 //       out-of-bounds write) and the pixel shader reads 0 there (out-of-bounds StructuredBuffer
 //       load), so an overflowing tile is shaded `count` times with light 0, or, where light 0
@@ -41,7 +41,7 @@ namespace tessera {
 //     Either way the overflow is counted in "lightlist.counters" (readForwardPlusCounters).
 //   "coneTest": "demo" (default) | "corrected"   spot lights: the article's ConeInsidePlane
 //       (m = cross(cross(N, d), d) not normalized, so it can cull a cone that reaches the tile)
-//       or the corrected test (math/plane.h coneInsidePlaneCorrected).
+//       or the corrected test (culling/plane.h coneInsidePlaneCorrected).
 //   "tileSize": 16 (default, BLOCK_SIZE) | 8 | 32   tile edge in px (one thread group per tile).
 //   "culling": "binned" (default) | "brute"   how the dispatch finds each tile's lights; the
 //       lists are identical (tests/golden/forward_plus_scenes_test.cpp). brute: every tile
@@ -81,7 +81,7 @@ inline constexpr std::array<std::string_view, 7> kForwardPlusOptionKeys{
 // resolved last (README "MSAA").
 Frame buildForwardPlus(const TechniqueContext& context);
 
-// The demo's list sizes (3dgep article §4.3.2, §4.5; ForwardPlusRendering.hlsl, main.cpp).
+// The demo's list sizes (3dgep article §4.3.2, §4.5; ForwardPlusRendering.hlsl, 3dgep demo's main.cpp).
 inline constexpr std::uint32_t kForwardPlusLocalListCapacity = 1024;   // o_LightList[1024], entries
 inline constexpr std::uint32_t kForwardPlusAverageLightsPerTile = 200; // global list: numTiles * 200 entries
 

@@ -16,7 +16,7 @@
 #include <tessera/frame/frame.h>
 #include <tessera/frame/frame_notes.h>
 #include <tessera/raster/device.h>
-#include <tessera/scene/precision.h>
+#include <tessera/state/precision.h>
 #include <tessera/scene/scene_resources.h>
 
 namespace tessera {

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/techniques/technique.h>
 
 namespace tessera {

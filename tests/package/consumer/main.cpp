@@ -11,8 +11,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <tessera/math/plane.h>
-#include <tessera/math/tile_frustum.h>
+#include <tessera/culling/plane.h>
+#include <tessera/culling/tile_frustum.h>
 #include <tessera/raster/device.h>
 
 namespace {

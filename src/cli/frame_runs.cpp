@@ -1,0 +1,123 @@
+// Running and timing a frame for `tessera render` (frame_runs.h).
+#include "frame_runs.h"
+
+#include <cstdio>
+#include <cstring>
+
+#include <sys/resource.h>
+
+#include <tessera/raster/quad_block.h>
+#include <tessera/techniques/option_catalog.h>
+#include <tessera/techniques/technique.h>
+
+#include "commands.h"
+
+namespace tessera::cli {
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The process's peak resident set size (getrusage ru_maxrss, KiB on Linux) in MiB.
+double peakRssMiB() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+    return double(usage.ru_maxrss) / 1024.0;
+}
+
+} // namespace
+
+void checkDumpAfter(const tessera::Frame& frame, const RenderOptions& o) {
+    for (const std::string& wanted : o.dumpAfter) {
+        std::string names;
+        bool found = false;
+        for (const tessera::Pass& p : frame.passes()) {
+            found = found || p.name == wanted;
+            names += (names.empty() ? "" : ", ") + p.name;
+        }
+        if (!found) throw UsageError("--dump-after: this frame has no pass '" + wanted + "' (its passes: " + names + ")");
+    }
+}
+
+std::optional<tessera::PixelHistory> probeHistory(const RenderOptions& o, std::uint32_t width, std::uint32_t height) {
+    if (!o.probe) return std::nullopt;
+    const auto [x, y] = *o.probe;
+    if (x >= width || y >= height)
+        throw UsageError("--probe: (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " + std::to_string(width) +
+                         "x" + std::to_string(height) + " frame");
+    return tessera::PixelHistory(x, y);
+}
+
+std::uint32_t lightGridTileSize(const tessera::SceneDescription& desc) {
+    const tessera::TechniqueInfo* info = tessera::findTechnique(desc.technique);
+    if (!info || info->tileSize == 0) return 0;
+    if (!tessera::findOption(desc.technique, "tileSize")) return info->tileSize;
+    const nlohmann::json& options = desc.techniqueOptions;
+    if (options.is_object() && options.contains("tileSize") && options["tileSize"].is_number_unsigned())
+        return options["tileSize"].get<std::uint32_t>();
+    return info->tileSize;
+}
+
+nlohmann::json manifestBase(const tessera::Frame& frame, const FrameRuns& runs, const RenderOptions& o) {
+    nlohmann::json passes = nlohmann::json::array();
+    for (const tessera::Pass& p : frame.passes()) passes.push_back({{"name", p.name}, {"reads", p.reads}, {"writes", p.writes}});
+    return {{"tessera", TESSERA_VERSION}, {"command", commandLine()}, {"passes", passes}, {"after", runs.after},
+            {"exposure", o.exposure}};
+}
+
+void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine) {
+    const std::size_t n = runs.frameMs.size();
+    if (n == 1) {
+        for (const auto& t : runs.passes[0]) std::printf("pass %-12s %9.3f ms\n", t.name.c_str(), t.milliseconds);
+        if (frameLine) std::printf("frame    %9.3f ms\n", runs.frameMs[0]);
+        return;
+    }
+    std::printf("repeat   %zu timed runs after %u warm-up runs; times below are medians (min..max)\n", n, o.warmup);
+    for (std::size_t p = 0; p < runs.passes[0].size(); ++p) {
+        std::vector<double> ms;
+        for (const auto& run : runs.passes) ms.push_back(run[p].milliseconds);
+        const auto [lo, hi] = std::minmax_element(ms.begin(), ms.end());
+        std::printf("pass %-12s %9.3f ms  (%.3f..%.3f)\n", runs.passes[0][p].name.c_str(), median(ms), *lo, *hi);
+    }
+    if (frameLine) {
+        const auto [lo, hi] = std::minmax_element(runs.frameMs.begin(), runs.frameMs.end());
+        std::printf("frame    %9.3f ms  (%.3f..%.3f)\n", median(runs.frameMs), *lo, *hi);
+    }
+}
+
+void printPeakMemory() { std::printf("peak memory  %.1f MiB\n", peakRssMiB()); }
+
+void printDrawStats(const tessera::DrawStats& s) {
+    std::printf("triangles in %llu, clipped %llu, culled %llu, rasterized %llu; quads %llu; ps invocations %llu; samples passed %llu\n",
+                (unsigned long long)s.setup.trianglesIn, (unsigned long long)s.setup.clipped,
+                (unsigned long long)(s.setup.culledFacing + s.setup.culledDegenerate + s.setup.culledNonFinite),
+                (unsigned long long)s.setup.trianglesOut, (unsigned long long)s.quads, (unsigned long long)s.psInvocations,
+                (unsigned long long)s.samplesPassed);
+    for (const auto& [path, draws] : s.paths) std::printf("path %-44s %llu draws\n", path.c_str(), (unsigned long long)draws);
+    if (s.psPerSample > 0 || s.edgeTestedPixels > 0 || s.computeShadedSamples > 0) {
+        // MSAA: what ran once per pixel and what ran once per sample.
+        std::printf("msaa     pixel shader %llu per pixel, %llu per sample; compute shading %llu pixels, %llu samples\n",
+                    (unsigned long long)(s.psInvocations - s.psPerSample), (unsigned long long)s.psPerSample,
+                    (unsigned long long)s.computeShadedPixels, (unsigned long long)s.computeShadedSamples);
+        if (s.edgeTestedPixels > 0)
+            std::printf("edges    %llu of %llu pixels shaded per sample (%.2f%%)\n", (unsigned long long)s.edgePixels,
+                        (unsigned long long)s.edgeTestedPixels, 100.0 * double(s.edgePixels) / double(s.edgeTestedPixels));
+    }
+    std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
+                (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
+}
+
+void printShadowStats(const tessera::BufferRegistry& registry) {
+    const tessera::Surface* counters = registry.find("shadow.counters");
+    if (!counters) return;
+    std::uint32_t c[5];
+    std::memcpy(c, counters->bytes().data(), sizeof(c));
+    std::printf("shadows  %u rays (jobs), %u occluded; %u light slots masked behind the surface; %u pixels list more than "
+                "128 lights (%u overlapping lights past slot 127)\n",
+                c[0], c[1], c[2], c[3], c[4]);
+}
+
+} // namespace tessera::cli

@@ -1,0 +1,46 @@
+// `tessera probe SCENE X Y [render flags]`: the history of one pixel through the frame, which is
+// `tessera render SCENE --probe X,Y` writing nothing unless --out or --dump is given.
+#include <cstdio>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "commands.h"
+#include "render_args.h"
+
+namespace tessera::cli {
+namespace {
+
+constexpr const char* kProbeUsage = R"(usage: tessera probe SCENE X Y [render options] [--json]
+
+Renders SCENE as `tessera render` does and prints the history of window pixel (X, Y), in pass and
+draw order: every primitive that covered it (coverage, depth and stencil outcome, the shader's
+inputs and output, what each light added or why it added nothing, the texels before and after),
+every buffer's value there after each pass and light step, and for the tiled techniques the
+pixel's tile (depth range, frustum planes, light list, lights culled).
+  --json        the same as one JSON object, for tools
+Every option of `tessera render` applies (see `tessera help render`); nothing is written unless
+--out or --dump is given.
+)";
+
+} // namespace
+
+int probeCommand(const std::vector<std::string_view>& args) {
+    if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
+        std::fputs(kProbeUsage, stdout);
+        return 0;
+    }
+    if (args.size() < 3) throw UsageError("probe needs SCENE X Y (window pixels)");
+    const std::string xy = std::string(args[1]) + "," + std::string(args[2]);
+    std::vector<std::string_view> renderArgs{args[0], "--probe", xy};
+    bool writes = false;
+    for (std::size_t i = 3; i < args.size(); ++i) {
+        writes = writes || args[i] == "--out" || args[i] == "--dump" || args[i].substr(0, 6) == "--out=" ||
+                 args[i].substr(0, 7) == "--dump=";
+        renderArgs.push_back(args[i]);
+    }
+    if (!writes) renderArgs.push_back("--no-output");
+    return renderCommand(renderArgs);
+}
+
+} // namespace tessera::cli
