@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include <tessera/shading/phong_lighting.h>
@@ -173,4 +175,36 @@ TEST_CASE("doLighting<float> agrees with doLighting<double> within 1e-5 on rando
     }
     MESSAGE("worst |float - double| = " << worst);
     CHECK(worst < 1e-5);
+}
+
+TEST_CASE("hlsl::normalize: where dot(v, v) over- or underflows, the power-of-two rescue gives the unit vector, elsewhere its bits are v / sqrt(dot(v, v))") {
+    // Truth: the direction in double, rounded once to float; the rescued result is within 2 ulp of
+    // it per component (the scaling is exact, then one dot, one sqrt and one division in float).
+    const auto closeToTruth = [](const Vec4<float>& v) {
+        const glm::dvec4 d(v);
+        const glm::dvec4 truth = d / std::sqrt(glm::dot(d, d));
+        const Vec4<float> got = hlsl::normalize(v);
+        for (int i = 0; i < 4; ++i) {
+            CAPTURE(i);
+            CHECK(std::isfinite(got[i]));
+            CHECK(std::fabs(double(got[i]) - truth[i]) <= 2.0 * double(std::numeric_limits<float>::epsilon()));
+        }
+    };
+    closeToTruth({1e20f, 0.0f, 0.0f, 0.0f});                    // squared 1e40: overflows to inf
+    closeToTruth({3e19f, -4e19f, 0.0f, 0.0f});                  // squared 2.5e39
+    closeToTruth({3e-30f, 4e-30f, 0.0f, 0.0f});                 // squared 2.5e-59: underflows to 0
+    closeToTruth({1e-40f, 0.0f, -1e-40f, 0.0f});                // subnormal components
+    closeToTruth({std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), 0.0f, 0.0f});
+    CHECK(hlsl::normalize(Vec3<double>{1e200, 0.0, 0.0}) == Vec3<double>{1.0, 0.0, 0.0});  // double: 1e400 overflows
+    // Zero stays 0 / 0 = NaN, as HLSL's normalize gives.
+    CHECK(std::isnan(hlsl::normalize(Vec4<float>(0.0f)).x));
+    // Ordinary vectors keep the plain formula's bits.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-100.0f, 100.0f);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec4<float> v{u(rng), u(rng), u(rng), u(rng)};
+        const Vec4<float> plain = v / std::sqrt(hlsl::dot(v, v));
+        const Vec4<float> got = hlsl::normalize(v);
+        CHECK(std::memcmp(&got, &plain, sizeof(got)) == 0);
+    }
 }

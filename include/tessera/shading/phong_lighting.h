@@ -4,6 +4,7 @@
 // article's order of operations, since multiplication order decides the bits.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -60,14 +61,37 @@ T length(const Vec4<T>& v) {
 }
 // normalize: v / sqrt(dot(v, v)). HLSL compiles normalize to v * rsq(dot(v, v)), whose rsq is
 // an approximation (D3D11.3 §22.10.29: 2^-21.6 relative); tessera chooses the correctly
-// rounded form so the result does not depend on an rsq implementation.
+// rounded form so the result does not depend on an rsq implementation. One rescue, as
+// cullmath::unitCross's: where dot(v, v) leaves T's normal range (a view normal of a world
+// scaled by 1e20 has length 1e20 and its square overflows, so v / inf = 0 and the G-buffer
+// codecs that normalize again store NaN), v is first scaled by a power of two that puts its
+// largest component in [0.5, 1). The scaling is exact, so the result is the direction the real
+// numbers give; where the plain dot(v, v) is a normal number the bits are its own. Zero stays
+// 0 / 0 = NaN, as in HLSL.
+namespace detail {
+template <class V>
+V powerOfTwoNormalize(const V& v) {
+    using T = typename V::value_type;
+    const T lengthSquared = dot(v, v);
+    if (lengthSquared >= std::numeric_limits<T>::min() && lengthSquared <= std::numeric_limits<T>::max())
+        return v / std::sqrt(lengthSquared);
+    T largest = T(0);
+    for (int i = 0; i < V::length(); ++i) largest = std::max(largest, std::fabs(v[i]));
+    if (!(largest > T(0)) || !(largest <= std::numeric_limits<T>::max())) return v / std::sqrt(lengthSquared);
+    int exponent = 0;
+    (void)std::frexp(largest, &exponent);
+    V scaled = v;
+    for (int i = 0; i < V::length(); ++i) scaled[i] = std::ldexp(v[i], -exponent);
+    return scaled / std::sqrt(dot(scaled, scaled));
+}
+} // namespace detail
 template <class T>
 Vec4<T> normalize(const Vec4<T>& v) {
-    return v / std::sqrt(dot(v, v));
+    return detail::powerOfTwoNormalize(v);
 }
 template <class T>
 Vec3<T> normalize(const Vec3<T>& v) {
-    return v / std::sqrt(dot(v, v));
+    return detail::powerOfTwoNormalize(v);
 }
 // reflect(i, n) = i - 2 * dot(n, i) * n (doubling is exact, so 2*d*n == (2*n)*d bit for bit).
 template <class T>
