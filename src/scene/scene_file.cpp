@@ -12,7 +12,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -529,24 +531,31 @@ namespace {
 
 // Duplicate keys: RFC 8259 §4 says names within an object SHOULD be unique and leaves the
 // meaning open; nlohmann keeps the last one, so a scene file's earlier value would be dropped in
-// silence. A SAX pass ahead of the DOM parse follows the containers and refuses a repeated key,
-// naming its JSON pointer. (It used to be Json::parse's callback, but nlohmann 3.11's callback
-// parser scans the whole parent container for a discarded value after every object it closes
-// (json_sax_dom_callback_parser::end_object): quadratic in an array of objects, 14 s for 270,000
-// lights. This pass and the plain parse are each linear.) A syntax error stops the pass (false),
-// and the DOM parse that follows reports it as before.
-class DuplicateKeyCheck : public nlohmann::json_sax<Json> {
+// silence. This SAX handler builds the document as Json::parse does and refuses a repeated key,
+// naming its JSON pointer, in the same single pass over the text. (Not Json::parse's callback:
+// nlohmann 3.11's callback parser scans the whole parent container for a discarded value after
+// every object it closes (json_sax_dom_callback_parser::end_object), quadratic in an array of
+// objects, 14 s for 270,000 lights; and not a second SAX pass ahead of the parse: that
+// tokenized a million-light file twice.) A syntax error throws Json::parse_error, as
+// Json::parse does.
+//
+// Streaming: the elements of the root object's array under `streamedKey` ("lights": a million
+// light objects would otherwise each stay in the document as a std::map of strings) are handed to
+// `onElement(index, element)` as each one is complete, and dropped: that array ends up empty.
+class CheckedDomBuilder : public nlohmann::json_sax<Json> {
 public:
-    explicit DuplicateKeyCheck(const Reader& reader) : mReader(reader) {}
+    using ElementFn = std::function<void(std::size_t, const Json&)>;
+    CheckedDomBuilder(const Reader& reader, Json& root, std::string_view streamedKey = {}, ElementFn onElement = {})
+        : mReader(reader), mRoot(root), mStreamedKey(streamedKey), mOnElement(std::move(onElement)) {}
 
-    bool null() override { return elementDone(); }
-    bool boolean(bool) override { return elementDone(); }
-    bool number_integer(number_integer_t) override { return elementDone(); }
-    bool number_unsigned(number_unsigned_t) override { return elementDone(); }
-    bool number_float(number_float_t, const string_t&) override { return elementDone(); }
-    bool string(string_t&) override { return elementDone(); }
-    bool binary(binary_t&) override { return elementDone(); }
-    bool start_object(std::size_t) override { return open(true); }
+    bool null() override { return value(Json(nullptr)); }
+    bool boolean(bool v) override { return value(Json(v)); }
+    bool number_integer(number_integer_t v) override { return value(Json(v)); }
+    bool number_unsigned(number_unsigned_t v) override { return value(Json(v)); }
+    bool number_float(number_float_t v, const string_t&) override { return value(Json(v)); }
+    bool string(string_t& v) override { return value(Json(std::move(v))); }
+    bool binary(binary_t& v) override { return value(Json::binary(std::move(v))); }
+    bool start_object(std::size_t) override { return open(Json::object(), true); }
     bool key(string_t& name) override {
         Level& top = mStack[mDepth - 1];
         bool repeated = false;
@@ -563,9 +572,15 @@ public:
         return true;
     }
     bool end_object() override { return close(); }
-    bool start_array(std::size_t) override { return open(false); }
+    bool start_array(std::size_t) override { return open(Json::array(), false); }
     bool end_array() override { return close(); }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+        // The parser hands over a parse_error (syntax) or an out_of_range (a number beyond
+        // binary64); rethrown as the concrete type, as Json::parse throws it.
+        if (const auto* syntax = dynamic_cast<const Json::parse_error*>(&e)) throw *syntax;
+        if (const auto* range = dynamic_cast<const Json::out_of_range*>(&e)) throw *range;
+        throw e;
+    }
 
 private:
     // Objects with up to kLinearKeys keys (every light, model and camera) are checked by a
@@ -573,18 +588,48 @@ private:
     // set: linear in the text either way.
     static constexpr std::size_t kLinearKeys = 16;
     struct Level {
+        Json* container = nullptr;            // the object or array being filled
         bool object = false;
         std::size_t index = 0;                // arrays: the index of the element being read
         std::string key;                      // objects: the key being read
         std::vector<std::string> keys;        // objects: keys seen so far (up to kLinearKeys)
         std::unordered_set<std::string> many; // objects: keys seen so far, beyond kLinearKeys
     };
+    // Stores v where the parser stands (the root, the open array's next element or the open
+    // object's current key) and returns its place.
+    Json* place(Json&& v) {
+        if (mDepth == 0) {
+            mRoot = std::move(v);
+            return &mRoot;
+        }
+        Level& top = mStack[mDepth - 1];
+        if (top.object) return &((*top.container)[top.key] = std::move(v));
+        ++top.index;
+        top.container->push_back(std::move(v));
+        return &top.container->back();
+    }
+    bool value(Json&& v) {
+        place(std::move(v));
+        elementDone();
+        return true;
+    }
+    // After an element of the innermost open container is complete: a streamed array's element
+    // goes to mOnElement and leaves the document.
+    void elementDone() {
+        if (!mOnElement || mDepth != 2 || !mStack[0].object || mStack[1].object || mStack[0].key != mStreamedKey) return;
+        Level& array = mStack[1];
+        mOnElement(array.index - 1, array.container->back());
+        array.container->get_ref<Json::array_t&>().pop_back();
+    }
     // Levels are reused as the parser enters and leaves containers, so a file of a million light
     // objects allocates a handful of times, not per object; the JSON pointer is built only for
-    // the error message (pointer()).
-    bool open(bool object) {
+    // the error message (pointer()). A container's place stays valid while it is open: only the
+    // innermost open container grows.
+    bool open(Json&& empty, bool object) {
+        Json* container = place(std::move(empty));
         if (mDepth == mStack.size()) mStack.emplace_back();
         Level& level = mStack[mDepth++];
+        level.container = container;
         level.object = object;
         level.index = 0;
         level.keys.clear();
@@ -593,21 +638,21 @@ private:
     }
     bool close() {
         --mDepth;
-        return elementDone();
-    }
-    bool elementDone() {
-        if (mDepth > 0 && !mStack[mDepth - 1].object) ++mStack[mDepth - 1].index;
+        elementDone();
         return true;
     }
     // The JSON pointer of the innermost open container.
     std::string pointer() const {
         std::string path;
         for (std::size_t i = 0; i + 1 < mDepth; ++i)
-            path = mStack[i].object ? Reader::at(path, mStack[i].key) : Reader::at(path, mStack[i].index);
+            path = mStack[i].object ? Reader::at(path, mStack[i].key) : Reader::at(path, mStack[i].index - 1);
         return path;
     }
     std::size_t mDepth = 0;
     const Reader& mReader;
+    Json& mRoot;
+    std::string_view mStreamedKey;
+    ElementFn mOnElement;
     std::vector<Level> mStack;
 };
 
@@ -620,10 +665,22 @@ SceneDescription parseSceneJson(const std::string& text, const std::filesystem::
     // Before any parse: a recursive copy of a deep "options" value would overflow the stack.
     checkJsonDepth(text, file.string());
     Json root;
+    // "lights" are parsed as the text streams by (CheckedDomBuilder), each light's first error kept
+    // and raised where the lights are read below, so errors keep their order: syntax first, then
+    // the keys in the order this function reads them.
+    std::vector<Light> streamedLights;
+    std::exception_ptr lightError;
+    const auto onLight = [&](std::size_t index, const Json& element) {
+        if (lightError) return;
+        try {
+            streamedLights.push_back(parseLight(r, element, Reader::at("/lights", index)));
+        } catch (...) {
+            lightError = std::current_exception();
+        }
+    };
     try {
-        DuplicateKeyCheck duplicates(r);
-        (void)Json::sax_parse(text, &duplicates);  // throws InputError on a repeated key; false on a syntax error
-        root = Json::parse(text);
+        CheckedDomBuilder builder(r, root, "lights", onLight);
+        (void)Json::sax_parse(text, &builder);  // throws InputError on a repeated key, Json's exceptions on bad syntax
     } catch (const Json::parse_error& e) {
         r.fail("", "invalid JSON (byte " + std::to_string(e.byte) + "): " + withoutExceptionPrefix(e.what()));
     } catch (const Json::exception& e) {
@@ -670,9 +727,9 @@ SceneDescription parseSceneJson(const std::string& text, const std::filesystem::
         d.precision = *precision;
     }
     if (root.contains("lights")) {
-        const Json& lights = root["lights"];
-        r.requireArray(lights, "/lights");
-        for (std::size_t i = 0; i < lights.size(); ++i) d.explicitLights.push_back(parseLight(r, lights[i], Reader::at("/lights", i)));
+        r.requireArray(root["lights"], "/lights");  // its elements were parsed as they streamed by
+        if (lightError) std::rethrow_exception(lightError);
+        d.explicitLights = std::move(streamedLights);
     }
     if (root.contains("gltfLights")) {
         const Json& g = root["gltfLights"];
