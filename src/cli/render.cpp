@@ -88,6 +88,9 @@ options:
   --double-sided-normals reverse|keep  back faces of double-sided glTF materials: lit with the normal
                     and tangent frame reversed, as glTF 2.0 §3.9.5 requires (reverse, default), or with
                     the front face's normal (keep: such back faces come out unlit, for comparison)
+  --generated-bitangent down|up  tangents generated for glTF primitives without TANGENT: bitangent
+                    down the image (down, default: tessera's generator, ERRATA #33, which reads a normal
+                    map's green channel inverted) or up it, as glTF 2.0 §3.9.3 reads normal textures
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
@@ -213,6 +216,7 @@ tessera::SceneDescription describeForRender(RenderOptions& o, const fs::path& sc
     if (o.width) desc.width = o.width;
     if (o.height) desc.height = o.height;
     if (o.precision) desc.precision = *o.precision;
+    desc.generatedBitangentUp = o.generatedBitangentUp;
     if (o.lights) {
         if (desc.generators.empty())
             warn("--lights: " + sceneFile.string() + " has no light generators; the flag changes nothing");
@@ -269,6 +273,18 @@ LoadedScene loadForRender(RenderOptions& o, Progress& progress) {
     s.scene = tessera::loadScene(desc, true, &s.camera);
     tessera::Scene& scene = s.scene;
     const tessera::Camera& camera = s.camera;
+    if (o.generatedBitangentUp) {
+        // Generated tangents change a render only where a normal texture reads them.
+        const auto readsGenerated = [&scene](const tessera::MeshPrimitive& p) {
+            return p.tangentsGenerated && p.material >= 0 && scene.materials[std::size_t(p.material)].normalTexture.present();
+        };
+        const bool anyRead = std::any_of(scene.meshes.begin(), scene.meshes.end(), [&](const tessera::Mesh& m) {
+            return std::any_of(m.primitives.begin(), m.primitives.end(), readsGenerated);
+        });
+        if (!anyRead)
+            warn("--generated-bitangent: " + sceneFile.string() +
+                 " has no normal-mapped primitive without TANGENT; the flag changes nothing");
+    }
     if (o.keepBackFaceNormals) {
         const bool anyDoubleSided = std::any_of(scene.materials.begin(), scene.materials.end(),
                                                 [](const tessera::Material& m) { return m.doubleSided; });

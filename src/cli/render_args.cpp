@@ -98,6 +98,11 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             if (mode == "reverse") o.keepBackFaceNormals = false;
             else if (mode == "keep") o.keepBackFaceNormals = true;
             else throw UsageError("--double-sided-normals: '" + std::string(mode) + "' is not reverse or keep");
+        } else if (a == "--generated-bitangent") {
+            const std::string_view mode = value();
+            if (mode == "down") o.generatedBitangentUp = false;
+            else if (mode == "up") o.generatedBitangentUp = true;
+            else throw UsageError("--generated-bitangent: '" + std::string(mode) + "' is not down or up");
         }
         else if (a == "--exr") {
             o.exrTypeGiven = true;

@@ -840,6 +840,7 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
         options.loadImages = loadImages;
         options.worldFromFile = model.worldFromFile;
         options.lightGroups = model.lightGroups;
+        options.generatedBitangentUp = d.generatedBitangentUp;
         loadGltf(model.path, scene, options);
     }
 

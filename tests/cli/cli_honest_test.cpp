@@ -339,3 +339,36 @@ TEST_CASE("cli honest: a render that fails leaves nothing behind: no dump folder
     for (const fs::directory_entry& e : fs::directory_iterator(parent))
         CHECK_MESSAGE(e.path().filename().string().rfind(".tessera-dump", 0) != 0, e.path().string());
 }
+
+TEST_CASE("cli honest: --generated-bitangent up changes a render whose normal maps lack TANGENT, and warns where no normal map reads a generated one") {
+    // Sponza's normal-mapped primitives have no TANGENT (ERRATA #33): the generated bitangent's
+    // direction decides the sign of every normal map's green channel, so the corrected render
+    // differs wherever a light grazes a normal-mapped surface, while `down` is the default byte for
+    // byte. Which of the two is glTF's truth is shown on a constructed quad in
+    // scene/gltf_rules_test.cpp.
+    const fs::path down = scratch("bitangent-default.png"), explicitDown = scratch("bitangent-down.png"),
+                   up = scratch("bitangent-up.png");
+    const std::string common = "render sponza-large-lights --technique forward --width 160 --height 90 --quiet --out ";
+    REQUIRE(run(common + down.string()).exitCode == 0);
+    REQUIRE(run(common + explicitDown.string() + " --generated-bitangent down").exitCode == 0);
+    REQUIRE(run(common + up.string() + " --generated-bitangent=up").exitCode == 0);
+    CHECK(fileBytes(down) == fileBytes(explicitDown));
+    int w = 0, h = 0;
+    const std::vector<std::uint8_t> a = readPixels<std::uint8_t>(down, w, h);
+    const std::vector<std::uint8_t> b = readPixels<std::uint8_t>(up, w, h);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < a.size(); i += 4)
+        differing += (a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2]) ? 1 : 0;
+    INFO("pixels that differ: " << differing << " of " << a.size() / 4);
+    CHECK(differing * 100 > a.size() / 4);  // more than 1% of the frame
+    // The default scene's normal-mapped model (AlphaBlendModeTest) carries TANGENT, and the boxes
+    // get generated tangents that no normal texture reads: the flag changes nothing there.
+    const Run plain = run("render default --width 16 --height 16 --no-output --generated-bitangent up");
+    INFO(plain.output);
+    CHECK(plain.exitCode == 0);
+    CHECK(plain.output.find("tessera: warning: --generated-bitangent: ") != std::string::npos);
+    CHECK(plain.output.find("has no normal-mapped primitive without TANGENT; the flag changes nothing") != std::string::npos);
+    const Run bad = run("render default --generated-bitangent sideways --no-output");
+    CHECK(bad.exitCode == 2);
+    CHECK(bad.output.find("--generated-bitangent: 'sideways' is not down or up") != std::string::npos);
+}

@@ -28,7 +28,7 @@ struct GltfLoadOptions {
     // Sponza, whose normal maps have no TANGENT, renders as before) takes the bitangent along
     // +v, i.e. down the image, which reads a normal texture's green channel inverted; true takes
     // it up the image, as glTF 2.0 §3.9.3 (+Y up) and explicit tangents from exporters do
-    // (ERRATA #33).
+    // (ERRATA #33; `tessera render --generated-bitangent up`).
     bool generatedBitangentUp = false;
 };
 
