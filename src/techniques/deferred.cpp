@@ -500,28 +500,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
-    const SceneResources* res = ctx.resources;
 
-    std::vector<std::string> gbufferWrites = gbufferTargets;
-    gbufferWrites.emplace_back("depth");
-    std::vector<std::string> gbufferOut = gbufferWrites;
-    if (msaa) {
-        gbufferOut.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
-        gbufferOut.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
-    }
-    frame.add({"gbuffer", gbufferWrites, gbufferOut, [setup, device, stats, variantCounts, res, msaa](BufferRegistry& reg) {
-                   const DeferredOptions& o = setup->options;
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get(setup->accumulationName);
-                   rt.colors[1] = &reg.get("gbuffer.diffuse");
-                   rt.colors[2] = &reg.get("gbuffer.specular");
-                   rt.colors[3] = &reg.get("gbuffer.normal");
-                   if (o.positionFromGBuffer) rt.colors[4] = &reg.get("gbuffer.position");
-                   if (msaa) gbuffer_detail::bindEdgeTargets(rt, reg, o.positionFromGBuffer ? 5 : 4);
-                   rt.depthStencil = &reg.get("depth");
-                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, o.floatTargets, o.accumulateLighting, o.positionFromGBuffer,
-                                       stats, variantCounts);
-               }});
+    frame.add(gbuffer_detail::deferredGBufferPass(setup->forward, ctx, gbufferTargets, opt.floatTargets, opt.accumulateLighting));
     if (msaa) frame.add(gbuffer_detail::edgePass(device, stats, opt.edges));
 
     // CopyTexturePass(depthStencilBuffer, depthStencilTexture): the lighting PS's DepthTextureVS.
@@ -611,6 +591,35 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
 }
 
 } // namespace
+
+namespace gbuffer_detail {
+
+Pass deferredGBufferPass(std::shared_ptr<const ForwardPassSetup> forward, const TechniqueContext& ctx,
+                         std::vector<std::string> targets, bool floatTargets, bool forwardAlpha) {
+    const bool msaa = ctx.sampleCount > 1;
+    const bool position = targets.size() > 4;
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    const SceneResources* res = ctx.resources;
+    std::vector<std::string> writes = targets;
+    writes.emplace_back("depth");
+    std::vector<std::string> out = writes;
+    if (msaa) {
+        out.emplace_back(kEdgeSurfaceTarget);
+        out.emplace_back(kEdgeCoverageTarget);
+    }
+    return {"gbuffer", writes, out,
+            [forward, device, stats, variantCounts, res, targets, floatTargets, forwardAlpha, position, msaa](BufferRegistry& reg) {
+                RenderTargets rt;
+                for (std::size_t i = 0; i < targets.size(); ++i) rt.colors[i] = &reg.get(targets[i]);
+                if (msaa) bindEdgeTargets(rt, reg, int(targets.size()));
+                rt.depthStencil = &reg.get("depth");
+                drawDeferredGBuffer(*forward, *device, *res, rt, floatTargets, forwardAlpha, position, stats, variantCounts);
+            }};
+}
+
+} // namespace gbuffer_detail
 
 void drawDeferredGBuffer(const ForwardPassSetup& fwd, Device& device, const SceneResources& res, const RenderTargets& rt,
                          bool floatTargets, bool forwardAlpha, bool positionTarget, DrawStats* stats,

@@ -163,13 +163,9 @@ Frame buildForward(const TechniqueContext& ctx) {
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    const auto drawPass = [setup, device, stats, variantCounts, res, reference, back, backReference](bool transparentPass) {
-        return [setup, device, stats, variantCounts, res, reference, transparentPass, back, backReference](BufferRegistry& reg) {
-            RenderTargets rt;
-            rt.colors[0] = &reg.get(back);
-            if (reference) rt.colors[1] = &reg.get(backReference);
-            rt.depthStencil = &reg.get("depth");
-            drawForwardPass(*setup, *device, *res, rt, transparentPass, stats, variantCounts);
+    const auto drawPass = [setup, device, stats, variantCounts, res](bool transparentPass) {
+        return [setup, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
+            drawForwardPass(*setup, *device, *res, forwardPassTargets(*setup, reg), transparentPass, stats, variantCounts);
         };
     };
     std::vector<std::string> drawReads = allBuffers;
@@ -177,6 +173,29 @@ Frame buildForward(const TechniqueContext& ctx) {
     frame.add({"transparent", drawReads, colorBuffers, drawPass(true)});
     if (samples > 1) frame.add(resolveBackBufferPass(samples, ctx.precision));
     return frame;
+}
+
+RenderTargets forwardPassTargets(const ForwardPassSetup& setup, BufferRegistry& registry) {
+    RenderTargets rt;
+    rt.colors[0] = &registry.get(backBufferTarget(setup.sampleCount));
+    if (setup.precision == Precision::Reference) rt.colors[1] = &registry.get(referenceBufferTarget(setup.sampleCount));
+    rt.depthStencil = &registry.get("depth");
+    return rt;
+}
+
+TileLightList bindTileLightList(BufferRegistry& registry, bool transparentPass, std::uint32_t indexCount,
+                                std::uint32_t tileSizePx) {
+    const std::string which = transparentPass ? "transparent" : "opaque";
+    const Surface& grid = registry.get("lightgrid." + which);
+    const Surface& list = registry.get("lightindex." + which);
+    TileLightList bound;
+    bound.grid = grid.bytes().data();
+    bound.gridWidth = grid.width();
+    bound.gridHeight = grid.height();
+    bound.indices = list.bytes().data();
+    bound.indexCount = indexCount;
+    bound.tileSizePx = tileSizePx;
+    return bound;
 }
 
 } // namespace tessera

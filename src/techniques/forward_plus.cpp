@@ -946,21 +946,11 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
                }});
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
-            const std::string which = transparentPass ? "transparent" : "opaque";
-            const Surface& grid = reg.get("lightgrid." + which);
-            const Surface& list = reg.get("lightindex." + which);
             const ForwardPlusCounters counters = readForwardPlusCounters(reg);
             TileLightList& bound = transparentPass ? st->transparentList : st->opaqueList;
-            bound.grid = grid.bytes().data();
-            bound.gridWidth = grid.width();
-            bound.gridHeight = grid.height();
-            bound.indices = list.bytes().data();
-            bound.indexCount = (transparentPass ? counters.transparent : counters.opaque).capacity;
-            bound.tileSizePx = st->options.tileSizePx;
-            RenderTargets rt;
-            rt.colors[0] = &reg.get(backBufferTarget(st->setup->sampleCount));
-            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(referenceBufferTarget(st->setup->sampleCount));
-            rt.depthStencil = &reg.get("depth");
+            bound = bindTileLightList(reg, transparentPass, (transparentPass ? counters.transparent : counters.opaque).capacity,
+                                      st->options.tileSizePx);
+            const RenderTargets rt = forwardPassTargets(*st->setup, reg);
             // Both Forward+ pipelines test LESS_EQUAL: the opaque pass against its own pre-pass
             // depth, the transparent pass without writes (3dgep demo's main.cpp).
             ForwardPassOverrides overrides;

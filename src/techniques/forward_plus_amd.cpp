@@ -719,25 +719,14 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     }
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
-            RenderTargets rt;
-            rt.colors[0] = &reg.get(backBufferTarget(st->setup->sampleCount));
-            if (st->setup->precision == Precision::Reference) rt.colors[1] = &reg.get(referenceBufferTarget(st->setup->sampleCount));
-            rt.depthStencil = &reg.get("depth");
+            const RenderTargets rt = forwardPassTargets(*st->setup, reg);
             if (st->options.shadingAmd) {
                 drawAmdPass(*st, *device, *res, rt, transparentPass, stats);
                 return;
             }
-            const std::string which = transparentPass ? "transparent" : "opaque";
-            const Surface& grid = reg.get("lightgrid." + which);
-            const Surface& list = reg.get("lightindex." + which);
             const AmdTileLightLists& lists = transparentPass ? st->transparent : st->opaque;
             TileLightList& bound = transparentPass ? st->transparentList : st->opaqueList;
-            bound.grid = grid.bytes().data();
-            bound.gridWidth = grid.width();
-            bound.gridHeight = grid.height();
-            bound.indices = list.bytes().data();
-            bound.indexCount = std::uint32_t(lists.lightIndices.size());
-            bound.tileSizePx = kAmdTileSizePx;
+            bound = bindTileLightList(reg, transparentPass, std::uint32_t(lists.lightIndices.size()), kAmdTileSizePx);
             ForwardPassOverrides overrides;
             overrides.depthFunc = ComparisonFunc::LessEqual;
             overrides.tileLights = &bound;

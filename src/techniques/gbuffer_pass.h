@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
@@ -81,6 +82,13 @@ inline void stencilLightGroups(PassState& p, std::uint8_t lightGroups) {
     stencilTestOnly(p, ComparisonFunc::Less, lightGroups, 0);
 }
 
+// The 3dgep G-buffer pass of deferred and tiled-deferred (drawDeferredGBuffer, techniques/deferred.h):
+// writes `targets`, RT0 first, then "gbuffer.diffuse", "gbuffer.specular", "gbuffer.normal" and
+// optionally "gbuffer.position" (a fifth name binds the position target), and "depth"; with MSAA
+// also the edge detectors' two targets (msaa_deferred.h). Defined in deferred.cpp.
+Pass deferredGBufferPass(std::shared_ptr<const ForwardPassSetup> forward, const TechniqueContext& ctx,
+                         std::vector<std::string> targets, bool floatTargets, bool forwardAlpha);
+
 // Precision reference: the float "accumulation" to the back buffer as an UNORM target stores a PS
 // value, and clamped to the reference buffer (every sample; with MSAA the ".msaa" targets).
 inline Pass presentAccumulationPass(Precision precision, std::uint32_t sampleCount = 1) {
@@ -100,17 +108,11 @@ inline Pass forwardTransparentPass(std::shared_ptr<const ForwardPassSetup> setup
     DrawStats* stats = ctx.stats;
     std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
     const SceneResources* res = ctx.resources;
-    const bool reference = ctx.precision == Precision::Reference;
-    const std::string back = backBufferTarget(ctx.sampleCount), backReference = referenceBufferTarget(ctx.sampleCount);
     const std::vector<std::string> colors = withBackBufferTargets(withReferenceBuffer({std::string(kBackBufferName)}, ctx.precision), ctx.sampleCount);
     std::vector<std::string> reads = colors;
     reads.emplace_back("depth");
-    return {"transparent", reads, colors, [setup, device, stats, variantCounts, res, reference, back, backReference](BufferRegistry& reg) {
-                RenderTargets rt;
-                rt.colors[0] = &reg.get(back);
-                if (reference) rt.colors[1] = &reg.get(backReference);
-                rt.depthStencil = &reg.get("depth");
-                drawForwardPass(*setup, *device, *res, rt, true, stats, variantCounts);
+    return {"transparent", reads, colors, [setup, device, stats, variantCounts, res](BufferRegistry& reg) {
+                drawForwardPass(*setup, *device, *res, forwardPassTargets(*setup, reg), true, stats, variantCounts);
             }};
 }
 

@@ -603,30 +603,9 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
 
     Device* device = ctx.device;
     DrawStats* stats = ctx.stats;
-    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
-    const SceneResources* res = ctx.resources;
 
-    std::vector<std::string> gbufferWrites = gbufferTargets;
-    gbufferWrites.emplace_back("depth");
-    std::vector<std::string> gbufferOut = gbufferWrites;
-    if (msaa) {
-        gbufferOut.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
-        gbufferOut.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
-    }
-    frame.add({"gbuffer", gbufferWrites, gbufferOut, [setup, device, stats, variantCounts, res, msaa](BufferRegistry& reg) {
-                   const bool position = setup->options.positionFromGBuffer;
-                   RenderTargets rt;
-                   rt.colors[0] = &reg.get("accumulation");
-                   rt.colors[1] = &reg.get("gbuffer.diffuse");
-                   rt.colors[2] = &reg.get("gbuffer.specular");
-                   rt.colors[3] = &reg.get("gbuffer.normal");
-                   if (position) rt.colors[4] = &reg.get("gbuffer.position");
-                   if (msaa) gbuffer_detail::bindEdgeTargets(rt, reg, position ? 5 : 4);
-                   rt.depthStencil = &reg.get("depth");
-                   // RT0 alpha = alpha * Opacity: forward's output alpha for the 3dgep compose.
-                   drawDeferredGBuffer(*setup->forward, *device, *res, rt, setup->options.floatTargets, true, position, stats,
-                                       variantCounts);
-               }});
+    // RT0 alpha = alpha * Opacity: forward's output alpha for the 3dgep compose.
+    frame.add(gbuffer_detail::deferredGBufferPass(setup->forward, ctx, gbufferTargets, opt.floatTargets, true));
 
     std::vector<std::string> tileReads = gbufferTargets;
     tileReads.emplace_back("depth");

@@ -85,6 +85,17 @@ struct ForwardPassOverrides {
     const TileLightList* tileLights = nullptr;  // every precision (reference shades the listed lights in double)
 };
 
+// The targets of forward's passes in `registry` (forward, Forward+ and its AMD variant): colors[0]
+// the back buffer (multisampled with MSAA), colors[1] its float copy at precision reference, the
+// depth-stencil buffer "depth".
+RenderTargets forwardPassTargets(const ForwardPassSetup& setup, BufferRegistry& registry);
+
+// The tile light list one Forward+ pass reads (TileLightList), bound to the registry's
+// "lightgrid.<opaque|transparent>" and "lightindex.<opaque|transparent>" buffers: `indexCount`
+// entries of the index list (the culling's capacity), tiles of `tileSizePx` px.
+TileLightList bindTileLightList(BufferRegistry& registry, bool transparentPass, std::uint32_t indexCount,
+                                std::uint32_t tileSizePx);
+
 // The demo's OpaquePass (g_pOpaquePipeline: depth LESS with writes, cull back; glTF doubleSided
 // culls none) or TransparentPass (g_pTransparentPipeline: SrcAlpha / InvSrcAlpha, depth LESS
 // without writes, cull none) over the scene's draw items in order, through the Phong PS.
