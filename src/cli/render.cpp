@@ -88,9 +88,10 @@ options:
   --double-sided-normals reverse|keep  back faces of double-sided glTF materials: lit with the normal
                     and tangent frame reversed, as glTF 2.0 §3.9.5 requires (reverse, default), or with
                     the front face's normal (keep: such back faces come out unlit, for comparison)
-  --generated-bitangent down|up  tangents generated for glTF primitives without TANGENT: bitangent
-                    down the image (down, default: tessera's generator, ERRATA #33, which reads a normal
-                    map's green channel inverted) or up it, as glTF 2.0 §3.9.3 reads normal textures
+  --generated-bitangent up|down  tangents generated for glTF primitives without TANGENT: bitangent
+                    up the image, as glTF 2.0 §3.9.3 reads normal textures (up, default), or down it
+                    (tessera's generator before ERRATA #33, which read a normal map's green channel
+                    inverted; for comparison)
   --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
                     FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
@@ -273,7 +274,7 @@ LoadedScene loadForRender(RenderOptions& o, Progress& progress) {
     s.scene = tessera::loadScene(desc, true, &s.camera);
     tessera::Scene& scene = s.scene;
     const tessera::Camera& camera = s.camera;
-    if (o.generatedBitangentUp) {
+    if (o.generatedBitangentGiven) {
         // Generated tangents change a render only where a normal texture reads them.
         const auto readsGenerated = [&scene](const tessera::MeshPrimitive& p) {
             return p.tangentsGenerated && p.material >= 0 && scene.materials[std::size_t(p.material)].normalTexture.present();

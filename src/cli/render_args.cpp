@@ -100,6 +100,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             else throw UsageError("--double-sided-normals: '" + std::string(mode) + "' is not reverse or keep");
         } else if (a == "--generated-bitangent") {
             const std::string_view mode = value();
+            o.generatedBitangentGiven = true;
             if (mode == "down") o.generatedBitangentUp = false;
             else if (mode == "up") o.generatedBitangentUp = true;
             else throw UsageError("--generated-bitangent: '" + std::string(mode) + "' is not down or up");

@@ -62,10 +62,11 @@ struct RenderOptions {
     // --double-sided-normals keep: back faces of double-sided glTF materials keep the unreversed
     // normal (glTF 2.0 §3.9.5 reverses it: the default, reverse), for comparison.
     bool keepBackFaceNormals = false;
-    // --generated-bitangent up: tangents generated for primitives without TANGENT take the
-    // bitangent up the image, as glTF 2.0 §3.9.3 reads a normal texture (ERRATA #33); the default,
-    // down, is tessera's generator as the goldens were made with it.
-    bool generatedBitangentUp = false;
+    // --generated-bitangent up|down: tangents generated for primitives without TANGENT take the
+    // bitangent up the image, as glTF 2.0 §3.9.3 reads a normal texture (up, the default), or down
+    // it, tessera's generator before the correction (ERRATA #33), for comparison.
+    bool generatedBitangentUp = true;
+    bool generatedBitangentGiven = false;
     Progress::Mode progress = Progress::Mode::Auto;
 };
 

@@ -340,19 +340,19 @@ TEST_CASE("cli honest: a render that fails leaves nothing behind: no dump folder
         CHECK_MESSAGE(e.path().filename().string().rfind(".tessera-dump", 0) != 0, e.path().string());
 }
 
-TEST_CASE("cli honest: --generated-bitangent up changes a render whose normal maps lack TANGENT, and warns where no normal map reads a generated one") {
+TEST_CASE("cli honest: --generated-bitangent down changes a render whose normal maps lack TANGENT, and warns where no normal map reads a generated one") {
     // Sponza's normal-mapped primitives have no TANGENT (ERRATA #33): the generated bitangent's
-    // direction decides the sign of every normal map's green channel, so the corrected render
-    // differs wherever a light grazes a normal-mapped surface, while `down` is the default byte for
-    // byte. Which of the two is glTF's truth is shown on a constructed quad in
+    // direction decides the sign of every normal map's green channel, so the old generator's render
+    // (down) differs wherever a light grazes a normal-mapped surface, while `up` is the default byte
+    // for byte. Which of the two is glTF's truth is shown on a constructed quad in
     // scene/gltf_rules_test.cpp.
-    const fs::path down = scratch("bitangent-default.png"), explicitDown = scratch("bitangent-down.png"),
-                   up = scratch("bitangent-up.png");
+    const fs::path up = scratch("bitangent-default.png"), explicitUp = scratch("bitangent-up.png"),
+                   down = scratch("bitangent-down.png");
     const std::string common = "render sponza-large-lights --technique forward --width 160 --height 90 --quiet --out ";
-    REQUIRE(run(common + down.string()).exitCode == 0);
-    REQUIRE(run(common + explicitDown.string() + " --generated-bitangent down").exitCode == 0);
-    REQUIRE(run(common + up.string() + " --generated-bitangent=up").exitCode == 0);
-    CHECK(fileBytes(down) == fileBytes(explicitDown));
+    REQUIRE(run(common + up.string()).exitCode == 0);
+    REQUIRE(run(common + explicitUp.string() + " --generated-bitangent up").exitCode == 0);
+    REQUIRE(run(common + down.string() + " --generated-bitangent=down").exitCode == 0);
+    CHECK(fileBytes(up) == fileBytes(explicitUp));
     int w = 0, h = 0;
     const std::vector<std::uint8_t> a = readPixels<std::uint8_t>(down, w, h);
     const std::vector<std::uint8_t> b = readPixels<std::uint8_t>(up, w, h);
@@ -363,7 +363,7 @@ TEST_CASE("cli honest: --generated-bitangent up changes a render whose normal ma
     CHECK(differing * 100 > a.size() / 4);  // more than 1% of the frame
     // The default scene's normal-mapped model (AlphaBlendModeTest) carries TANGENT, and the boxes
     // get generated tangents that no normal texture reads: the flag changes nothing there.
-    const Run plain = run("render default --width 16 --height 16 --no-output --generated-bitangent up");
+    const Run plain = run("render default --width 16 --height 16 --no-output --generated-bitangent down");
     INFO(plain.output);
     CHECK(plain.exitCode == 0);
     CHECK(plain.output.find("tessera: warning: --generated-bitangent: ") != std::string::npos);

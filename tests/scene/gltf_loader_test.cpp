@@ -116,10 +116,12 @@ GltfFile quadFile(const std::vector<float>& uvs = {}) {
     return f;
 }
 
-Scene load(const fs::path& file, std::vector<std::string>* warnings = nullptr, bool loadImages = true) {
+Scene load(const fs::path& file, std::vector<std::string>* warnings = nullptr, bool loadImages = true,
+           bool generatedBitangentUp = true) {
     Scene scene;
     GltfLoadOptions options;
     options.loadImages = loadImages;
+    options.generatedBitangentUp = generatedBitangentUp;
     std::vector<std::string> sink;
     options.warnings = warnings ? warnings : &sink;
     loadGltf(file, scene, options);
@@ -708,32 +710,37 @@ TEST_CASE("gltf: images: grey+alpha and 16-bit RGB expand/convert to RGBA8, alph
 
 // ---- tangents -----------------------------------------------------------------------------------
 
-TEST_CASE("gltf: generated tangents: unit, orthogonal to N, w from the UV orientation (mirrored quad: -1)") {
+TEST_CASE("gltf: generated tangents: unit, orthogonal to N, w from the UV orientation (upright quad: +1)") {
     struct Case {
         const char* name;
         std::vector<float> uvs;
         glm::vec3 tangent;
-        float w;
+        float w;  // the default generator's (bitangent up the image)
     };
-    // Quad corners (0,0) (1,0) (1,1) (0,1), N = +z; bitangent = cross(N, T) * w must equal dP/dv.
+    // Quad corners (0,0) (1,0) (1,1) (0,1), N = +z; bitangent = cross(N, T) * w must equal
+    // -dP/dv, up the image (glTF 2.0 §3.8: v runs down the image; §3.9.3: a normal texture's +Y
+    // is up); the old generator (generatedBitangentUp off, ERRATA #33) takes +dP/dv: w negated.
     const Case cases[] = {
-        {"uv = (x, y)", {0, 0, 1, 0, 1, 1, 0, 1}, {1, 0, 0}, 1.0f},            // T = dP/du = +x, B = +y = cross(z, x)
-        {"uv = (1 - x, y)", {1, 0, 0, 0, 0, 1, 1, 1}, {-1, 0, 0}, -1.0f},      // T = -x, cross(z, -x) = -y, B = +y
-        {"uv = (x, 1 - y)", {0, 1, 1, 1, 1, 0, 0, 0}, {1, 0, 0}, -1.0f},       // T = +x, B = -y
-        {"uv = (2y, 3x)", {0, 0, 0, 3, 2, 3, 2, 0}, {0, 1, 0}, -1.0f},         // T = +y, B = +x, cross(z, y) = -x
+        {"uv = (x, y)", {0, 0, 1, 0, 1, 1, 0, 1}, {1, 0, 0}, -1.0f},           // T = dP/du = +x, B = -y = -cross(z, x)
+        {"uv = (1 - x, y)", {1, 0, 0, 0, 0, 1, 1, 1}, {-1, 0, 0}, 1.0f},       // T = -x, cross(z, -x) = -y = B
+        {"uv = (x, 1 - y): upright", {0, 1, 1, 1, 1, 0, 0, 0}, {1, 0, 0}, 1.0f},  // T = +x, B = +y = cross(z, x)
+        {"uv = (2y, 3x)", {0, 0, 0, 3, 2, 3, 2, 0}, {0, 1, 0}, 1.0f},          // T = +y, B = -x = cross(z, y)
     };
-    for (const Case& c : cases) {
-        CAPTURE(c.name);
-        const Scene scene = load(quadFile(c.uvs).write("tangents.gltf"));
-        const MeshPrimitive& prim = scene.meshes.at(0).primitives.at(0);
-        CHECK(prim.tangentsGenerated);
-        REQUIRE(prim.tangentsObject.size() == 4);
-        for (std::size_t v = 0; v < 4; ++v) {
-            const glm::vec3 t(prim.tangentsObject[v]);
-            CHECK(std::abs(glm::length(t) - 1.0f) < 1e-6f);
-            CHECK(std::abs(glm::dot(t, prim.normalsObject[v])) < 1e-6f);
-            checkNear(t, c.tangent);
-            CHECK(prim.tangentsObject[v].w == c.w);
+    for (const bool up : {true, false}) {
+        for (const Case& c : cases) {
+            CAPTURE(c.name);
+            CAPTURE(up);
+            const Scene scene = load(quadFile(c.uvs).write("tangents.gltf"), nullptr, true, up);
+            const MeshPrimitive& prim = scene.meshes.at(0).primitives.at(0);
+            CHECK(prim.tangentsGenerated);
+            REQUIRE(prim.tangentsObject.size() == 4);
+            for (std::size_t v = 0; v < 4; ++v) {
+                const glm::vec3 t(prim.tangentsObject[v]);
+                CHECK(std::abs(glm::length(t) - 1.0f) < 1e-6f);
+                CHECK(std::abs(glm::dot(t, prim.normalsObject[v])) < 1e-6f);
+                checkNear(t, c.tangent);
+                CHECK(prim.tangentsObject[v].w == (up ? c.w : -c.w));
+            }
         }
     }
 }
@@ -761,7 +768,8 @@ TEST_CASE("gltf: generated tangents: a vertex shared by preserving and mirrored 
             CAPTURE(tri);
             CAPTURE(v);
             checkNear(glm::vec3(prim.tangentsObject[v]), right ? glm::vec3(-1, 0, 0) : glm::vec3(1, 0, 0));
-            CHECK(prim.tangentsObject[v].w == (right ? -1.0f : 1.0f));
+            // Left: T = +x, B = -dP/dv = -y = -cross(z, x): w = -1; mirrored right: T = -x, w = +1.
+            CHECK(prim.tangentsObject[v].w == (right ? 1.0f : -1.0f));
         }
     }
     // Positions of the right-hand triangles are unchanged by the split.
@@ -784,7 +792,7 @@ TEST_CASE("gltf: TANGENT present: kept with its w, without NORMAL, flat normals 
     CHECK(flatPrim.positionsObject.size() == 6);
     for (const glm::vec3& n : flatPrim.normalsObject) CHECK(n == glm::vec3(0, 0, 1));
     CHECK(flatPrim.tangentsGenerated);
-    for (const glm::vec4& t : flatPrim.tangentsObject) CHECK(t == glm::vec4(1, 0, 0, 1));
+    for (const glm::vec4& t : flatPrim.tangentsObject) CHECK(t == glm::vec4(1, 0, 0, -1));  // uv = (x, y): B = -y
 }
 
 // ---- bad input ----------------------------------------------------------------------------------

@@ -24,12 +24,12 @@ struct GltfLoadOptions {
     // Receives one line per warning (unsupported optional extensions, skipped point/line
     // primitives, ignored skins, ...), each prefixed by the file name; null: printed to stderr.
     std::vector<std::string>* warnings = nullptr;
-    // Generated tangents (a primitive without TANGENT): false (default, kept so that the bundled
-    // Sponza, whose normal maps have no TANGENT, renders as before) takes the bitangent along
-    // +v, i.e. down the image, which reads a normal texture's green channel inverted; true takes
-    // it up the image, as glTF 2.0 §3.9.3 (+Y up) and explicit tangents from exporters do
-    // (ERRATA #33; `tessera render --generated-bitangent up`).
-    bool generatedBitangentUp = false;
+    // Generated tangents (a primitive without TANGENT): true (default) takes the bitangent up the
+    // image, as glTF 2.0 §3.9.3 (+Y up) and explicit tangents from exporters do; false takes it
+    // along +v, i.e. down the image, which reads a normal texture's green channel inverted:
+    // tessera's generator before the correction, kept for comparison (ERRATA #33;
+    // `tessera render --generated-bitangent down`).
+    bool generatedBitangentUp = true;
 };
 
 // Appends the file's contents to `scene` (indices into scene's vectors are offset accordingly).

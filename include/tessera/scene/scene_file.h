@@ -45,7 +45,7 @@ struct SceneDescription {
     std::vector<Light> explicitLights;          // "lights": [...]
     bool useGltfLights = false;                 // "gltfLights": {"enabled": true, ...}
     // Handed to every model's GltfLoadOptions (ERRATA #33; the command line's --generated-bitangent).
-    bool generatedBitangentUp = false;
+    bool generatedBitangentUp = true;
     float gltfLightDefaultRange = 0.0f;         // "gltfLights": {"defaultRange": R}: replaces infinite KHR ranges (0: keep inf)
     std::vector<LightGeneratorSpec> generators; // "generate": [...]
     // "shadowCasters": "none" (default) | "all" | [light indices into the final list: explicit,
