@@ -20,6 +20,7 @@
 #include <tessera/raster/output_merger.h>
 #include <tessera/raster/pixel_watch.h>
 #include <tessera/raster/quad_block.h>
+#include <tessera/raster/detail/tile_steps.h>
 #include <tessera/raster/sample_pattern.h>
 
 namespace tessera {
@@ -310,55 +311,77 @@ struct WatchRecord {
     }
 };
 
-// Rasterizes the tile's triangles in submission order. Edge functions are stepped, not
-// re-multiplied: E_i at the top-left pixel centre of the first quad is evaluated once per
-// triangle exactly as A_i (X - X_i) + B_i (Y - Y_i), then moves by A_i * 256 per pixel in x
-// and B_i * 256 per pixel in y, and a sample adds A_i * dx + B_i * dy for its offset. Integer
-// addition is exact, and every value formed is the edge function at a real point of the
-// target (|E| <= 2^61, fixed_point.h), so coverage and barycentrics equal the direct
-// evaluation bit for bit.
+// Rasterizes one tile's triangles in submission order, split as llvmpipe splits its tile loop:
+// per triangle, coverage (the edge functions stepped over 8x8 blocks; the shader-independent
+// steps live in tile_steps.h, compiled once) comes before shading (the SIMD block's lean
+// pipeline, the block's quads, the per-quad path, and per pixel the depth/stencil test, the
+// shader and the output merger in resolveSamples). Edge functions are stepped, not
+// re-multiplied (TriangleEdges): integer addition is exact, and every value formed is the edge
+// function at a real point of the target (|E| <= 2^61, fixed_point.h), so coverage and
+// barycentrics equal the direct evaluation bit for bit.
 // kSingleSample: the targets have one sample, so every per-sample loop folds away at compile time.
 template <class PS, Varyings V, DepthKernel kDepth, bool kSingleSample>
-void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
-                   const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& tileCounters) {
-    // Counted locally and stored once: the tiles' counters sit side by side in one vector, so
-    // per-pixel increments there would bounce cache lines between threads (false sharing).
-    TileCounters counters;
-    constexpr bool kHasPs = !std::is_same_v<PS, NoPixelShader>;
-    constexpr int kTargets = [] { if constexpr (kHasPs) return int(PS::kTargetCount); else return 0; }();
-    constexpr bool kWritesDepth = kHasPs && writesDepth<PS>();
-    constexpr bool kPerSample = kHasPs && perSample<PS>();
-    constexpr bool kMayDiscard = kHasPs && mayDiscard<PS>();
-    const std::uint32_t sampleCount = kSingleSample ? 1 : dc.targets.sampleCount;
-    const Viewport& vp = dc.state->viewport;
+class TileRasterizer {
+public:
+    TileRasterizer(const DrawContext& dc, const PixelRect& tile, const std::vector<SetupChunk>& chunks, const PS& ps)
+        : mDc(dc), mTile(tile), mChunks(chunks), mPs(ps), mSampleCount(kSingleSample ? 1 : dc.targets.sampleCount),
+          mVp(dc.state->viewport), mDepthD24(kDepth == DepthKernel::Buffer && dc.ds.path() == DepthPath::D24),
+          // The watched pixel (Device::setPixelWatch), when it lies in this tile: its quads skip the
+          // SIMD blocks and record what happens to it.
+          mWatchHere(dc.watch && std::int32_t(dc.watch->x) >= tile.minX && std::int32_t(dc.watch->x) < tile.maxX &&
+                     std::int32_t(dc.watch->y) >= tile.minY && std::int32_t(dc.watch->y) < tile.maxY) {}
 
+    void run(std::span<const TriangleRef> list, TileCounters& tileCounters) {
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            prefetch(list, k);
+            const TriangleRef ref = list[k];
+            const SetupChunk& chunk = mChunks[ref.chunk];
+            mTri = &chunk.tris[ref.index];
+            mStore = chunk.varyings.data();
+            const SetupTriangle& t = *mTri;
+            mRect = PixelRect{std::max(t.bounds.minX, mTile.minX), std::max(t.bounds.minY, mTile.minY),
+                              std::min(t.bounds.maxX, mTile.maxX), std::min(t.bounds.maxY, mTile.maxY)};
+            if (mRect.empty()) continue;
+            mFront = t.frontFacing;
+            mFailWrites = mDc.ds.failCanWrite(mFront);
+            triangleEdges(t, mRect, mDc.samples, mSampleCount, mEdges);
+            rasterizeTriangle();
+        }
+        tileCounters.quads += mCounters.quads;
+        tileCounters.psInvocations += mCounters.psInvocations;
+        tileCounters.samplesPassed += mCounters.samplesPassed;
+        tileCounters.simdBlocks += mCounters.simdBlocks;
+        tileCounters.leanBlocks += mCounters.leanBlocks;
+    }
+
+private:
+    static constexpr bool kHasPs = !std::is_same_v<PS, NoPixelShader>;
+    static constexpr int kTargets = [] { if constexpr (kHasPs) return int(PS::kTargetCount); else return 0; }();
+    static constexpr bool kWritesDepth = kHasPs && writesDepth<PS>();
+    static constexpr bool kPerSample = kHasPs && perSample<PS>();
+    static constexpr bool kMayDiscard = kHasPs && mayDiscard<PS>();
+    static constexpr std::int32_t kBlock = QuadBlock::kSide;  // px
     // A tile's triangles lie scattered over the draw's setup output (small triangles: one
     // every few hundred bytes to kilobytes), so each is a cache and TLB miss. Prefetch the
     // triangle kAheadTri entries ahead, its varyings kAheadVary ahead (by then the triangle,
     // which holds their offset, has arrived) and the first rows of depth and colour texels
     // it covers kAheadPixels ahead. Prefetches change no result.
-    constexpr std::size_t kAheadTri = 8, kAheadVary = 4, kAheadPixels = 2;
-    constexpr std::int32_t kPrefetchRows = 8;
-    // Buffer's format, fixed for the draw: D24 (else D32).
-    const bool depthD24 = kDepth == DepthKernel::Buffer && dc.ds.path() == DepthPath::D24;
-    Surface* const pixelSurfaces[2] = {kDepth == DepthKernel::Off ? nullptr : dc.depthStencil,
-                                       kTargets > 0 ? dc.colors[0] : nullptr};
-    constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
-    auto triangleOf = [&](const TriangleRef& ref) -> const SetupTriangle& { return chunks[ref.chunk].tris[ref.index]; };
+    static constexpr std::size_t kAheadTri = 8, kAheadVary = 4, kAheadPixels = 2;
+    static constexpr std::int32_t kPrefetchRows = 8;
+    static constexpr std::size_t kVaryBytes = 3 * kVaryingFloatCount<V> * sizeof(float);
     // The SIMD block path: single-sample targets, varyings that fit a QuadBlock, and at least
     // kSimdBlockMinPixels of the 8x8 block inside the triangle's rectangle. Smaller pieces stay on
     // the per-quad path, which visits only the quads in the rectangle. In bench/raster_bench at one
     // thread (best of 4 runs) thresholds 8..40 px ran the 20 px triangles about 20% faster than 64
     // and 100 (no block path); 40 keeps most 3 px triangles (bounds up to 6x6 px) per quad.
-    constexpr bool kBlockVaryings = kVaryingFloatCount<V> <= QuadBlock::kMaxVaryings;
-    constexpr std::int32_t kSimdBlockMinPixels = 40;  // px of the 8x8 block inside r
+    static constexpr bool kBlockVaryings = kVaryingFloatCount<V> <= QuadBlock::kMaxVaryings;
+    static constexpr std::int32_t kSimdBlockMinPixels = 40;  // px of the 8x8 block inside r
     static constexpr std::int64_t kNoEdges[4][3] = {};  // unused when single-sampled
     // The lean block pipeline: a SIMD depth test of the whole block, then the shader on the
     // passing pixels, with nothing per pixel that the state does not need. For pixel-rate
     // shaders that do not write depth, on the D32 / D24 / Off paths (stencil inactive) and when
     // failing samples cannot write (checked per triangle); otherwise the block feeds shadeQuad.
-    constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthKernel::General;
-    QuadBlock block;
+    static constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthKernel::General;
     // RGBA8 colours of one triangle's block, per target (overwrites, and blends when
     // dc.rgba8Blend): colour c of lane p at rgba[c * 64 + p].
     // Zeroed once, so the encoder never reads indeterminate lanes.
@@ -366,16 +389,23 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
         alignas(64) float rgba[kTargets > 0 ? kTargets : 1][4 * QuadBlock::kPixels];
         std::uint64_t pending[kTargets > 0 ? kTargets : 1];
     };
-    ColorStash stash{};
-    auto stashColor = [&](int rt, int lane, const glm::vec4& src) {
-        for (std::size_t c = 0; c < 4; ++c) stash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
-        stash.pending[rt] |= std::uint64_t(1) << lane;
-    };
-    // The watched pixel (Device::setPixelWatch), when it lies in this tile: its quads skip the
-    // SIMD blocks and record what happens to it.
-    const bool watchHere = dc.watch && std::int32_t(dc.watch->x) >= tile.minX && std::int32_t(dc.watch->x) < tile.maxX &&
-                           std::int32_t(dc.watch->y) >= tile.minY && std::int32_t(dc.watch->y) < tile.maxY;
-    for (std::size_t k = 0; k < list.size(); ++k) {
+
+    const SetupTriangle& triangleOf(const TriangleRef& ref) const { return mChunks[ref.chunk].tris[ref.index]; }
+    std::array<std::uint32_t, 2> pixelOf(std::int32_t bx, std::int32_t by, int lane) const {
+        return std::array<std::uint32_t, 2>{std::uint32_t(bx + lane % kBlock), std::uint32_t(by + lane / kBlock)};
+    }
+    void stashColor(int rt, int lane, const glm::vec4& src) {
+        for (std::size_t c = 0; c < 4; ++c) mStash.rgba[rt][c * QuadBlock::kPixels + std::size_t(lane)] = src[int(c)];
+        mStash.pending[rt] |= std::uint64_t(1) << lane;
+    }
+    V laneVaryings(int lane) const {
+        VaryingArray<V> v;
+        for (std::size_t j = 0; j < v.size(); ++j) v[j] = mBlock.varyings[j * QuadBlock::kPixels + std::size_t(lane)];
+        return std::bit_cast<V>(v);
+    }
+
+    void prefetch(std::span<const TriangleRef> list, std::size_t k) const {
+        const std::vector<SetupChunk>& chunks = mChunks;
         if (k + kAheadTri < list.size()) {
             const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
             __builtin_prefetch(next);
@@ -389,463 +419,455 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
         }
         if (k + kAheadPixels < list.size()) {
             const PixelRect& b = triangleOf(list[k + kAheadPixels]).bounds;
+            const PixelRect& tile = mTile;
             const std::int32_t x0 = std::max(b.minX, tile.minX), x1 = std::min(b.maxX, tile.maxX);
             const std::int32_t y0 = std::max(b.minY, tile.minY), y1 = std::min({b.maxY, tile.maxY, y0 + kPrefetchRows});
+            // Buffer's format, fixed for the draw: D24 (else D32).
+            Surface* const pixelSurfaces[2] = {kDepth == DepthKernel::Off ? nullptr : mDc.depthStencil,
+                                               kTargets > 0 ? mDc.colors[0] : nullptr};
             if (x0 < x1)
                 for (Surface* surface : pixelSurfaces)
                     if (surface)
                         for (std::int32_t y = y0; y < y1; ++y) {
                             __builtin_prefetch(surface->texel(std::uint32_t(x0), std::uint32_t(y)), 1);
-                            __builtin_prefetch(surface->texel(std::uint32_t(x1 - 1), std::uint32_t(y), sampleCount - 1), 1);
+                            __builtin_prefetch(surface->texel(std::uint32_t(x1 - 1), std::uint32_t(y), mSampleCount - 1), 1);
                         }
         }
-        const TriangleRef ref = list[k];
-        const SetupChunk& chunk = chunks[ref.chunk];
-        const SetupTriangle& t = chunk.tris[ref.index];
-        const float* store = chunk.varyings.data();
-        const PixelRect r{std::max(t.bounds.minX, tile.minX), std::max(t.bounds.minY, tile.minY),
-                          std::min(t.bounds.maxX, tile.maxX), std::min(t.bounds.maxY, tile.maxY)};
-        if (r.empty()) continue;
-        const bool front = t.frontFacing;
-        const bool failWrites = dc.ds.failCanWrite(front);
+    }
 
-        // Edge steps (units^2) and the offset of each sample from its pixel centre.
-        std::int64_t stepX[3], stepY[3], sampleDelta[8][3];
-        const std::int32_t qx0 = r.minX & ~1, qy0 = r.minY & ~1;
-        std::int64_t eOrigin[3];  // E_i at the centre of pixel (qx0, qy0)
-        for (int i = 0; i < 3; ++i) {
-            stepX[i] = std::int64_t(t.a[i]) * fixed::kOne;
-            stepY[i] = std::int64_t(t.b[i]) * fixed::kOne;
-            const std::int64_t X = std::int64_t(qx0) * fixed::kOne + fixed::kHalf;
-            const std::int64_t Y = std::int64_t(qy0) * fixed::kOne + fixed::kHalf;
-            eOrigin[i] = std::int64_t(t.a[i]) * (X - t.edgeX[i]) + std::int64_t(t.b[i]) * (Y - t.edgeY[i]);
-            for (std::uint32_t s = 0; s < sampleCount; ++s)
-                sampleDelta[s][i] = std::int64_t(t.a[i]) * (dc.samples[s].x * 16) + std::int64_t(t.b[i]) * (dc.samples[s].y * 16);
-        }
-        // Blocks of kBlock x kBlock pixels (whole quads, from (qx0, qy0)) where some edge
-        // function is below its bias at every sample point are skipped. E_i is linear, so its
-        // maximum over the block's sample points is E_i at the block's first pixel centre plus
-        // blockReach[i] (the largest pixel step in x and in y, plus the largest sample offset):
-        // an exact integer bound, so a skipped block holds no covered sample. The points are
-        // at most kBlock px outside the target, inside the guard band: |E| <= 2^61 still holds.
-        // Quads within a triangle cover disjoint pixels, so visiting them block by block
-        // instead of row by row changes no result.
-        constexpr std::int32_t kBlock = QuadBlock::kSide;  // px
-        std::int64_t blockReach[3];
-        for (int i = 0; i < 3; ++i) {
-            std::int64_t maxDelta = sampleDelta[0][i];
-            for (std::uint32_t s = 1; s < sampleCount; ++s) maxDelta = std::max(maxDelta, sampleDelta[s][i]);
-            blockReach[i] = std::max<std::int64_t>(0, (kBlock - 1) * stepX[i]) +
-                            std::max<std::int64_t>(0, (kBlock - 1) * stepY[i]) + maxDelta;
-        }
-        // The minimum of E_i over a block's pixel centres, relative to its first: the SIMD block
-        // path (single-sampled) treats a block whose minimum is at or above the bias as covered.
-        std::int64_t blockLow[3];
-        for (int i = 0; i < 3; ++i)
-            blockLow[i] = std::min<std::int64_t>(0, (kBlock - 1) * stepX[i]) + std::min<std::int64_t>(0, (kBlock - 1) * stepY[i]);
-
-        // Depth/stencil, shading and the output merger for one quad whose centres are in qc;
-        // ePix (E_i at the pixel centres) gives the samples' barycentrics when multisampled.
-        // lanes: the pixels' lanes in the SIMD block (nullptr on the per-quad path); their RGBA8
-        // overwrites go to the block's colour stash, encoded and stored when the block is done.
-        auto shadeQuad = [&](std::int32_t qx, std::int32_t qy, std::uint32_t quadMask, const QuadCentres<V>& qc,
-                             const std::int64_t (&ePix)[4][3], const int* lanes) {
-            [[maybe_unused]] V ddx{}, ddy{};
-            if constexpr (kHasPs) {
-                ddx = subtract(qc.varyings[1], qc.varyings[0]);
-                ddy = subtract(qc.varyings[2], qc.varyings[0]);
-            }
-
-            for (int p = 0; p < 4; ++p) {
-                const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
-                if (pixelMask == 0) continue;
-                const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
-                // Barycentrics at sample s (the centre's when single-sampled: offset 0).
-                auto sampleBary = [&](std::uint32_t s) {
-                    if (sampleCount == 1) return qc.bary(p);
-                    const std::int64_t e[3] = {ePix[p][0] + sampleDelta[s][0], ePix[p][1] + sampleDelta[s][1],
-                                               ePix[p][2] + sampleDelta[s][2]};
-                    return baryFromEdges(t, e);
-                };
-                float zSample[8];
-                if (sampleCount == 1) {
-                    zSample[0] = clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
-                } else {
-                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                        if (!(pixelMask & (1u << s))) continue;
-                        zSample[s] = clampDepth(depthAt(t, sampleBary(s)), vp.minDepth, vp.maxDepth);
-                    }
-                }
-                // Shades, tests and writes the samples in `mask` with one shader result.
-                // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
-                // shader runs per sample (clamped to the viewport range like the samples).
-                auto resolveSamples = [&](std::uint32_t mask, std::uint32_t sampleIndex, const V& var, float posW,
-                                          float xWin, float yWin, float zPs) {
-                    [[maybe_unused]] PixelOutput<kTargets> out;
-                    bool shaded = false;
-                    std::optional<WatchRecord> watched;  // engaged only at the watched pixel
-                    if (watchHere && px == dc.watch->x && py == dc.watch->y) [[unlikely]] {
-                        watched.emplace();
-                        watched->begin(dc.watch, kTargets > 0 ? dc.colors[0] : nullptr, dc.depthStencil, px, py);
-                        watched->event.draw = dc.drawNumber;
-                        watched->event.primitive = t.primitive;
-                        watched->event.coverage = mask;
-                        watched->event.frontFacing = front;
-                        watched->event.z = zSample[std::countr_zero(mask)];
-                    }
-                    auto shade = [&] {
-                        if constexpr (kHasPs) {
-                            PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
-                                             pixelMask, sampleIndex};
-                            if (watched) [[unlikely]] {  // the inputs, and a place for the light loops' terms
-                                PixelDrawEvent& ev = watched->event;
-                                ev.posWindow = in.posWindow;
-                                ev.sampleIndex = sampleIndex;
-                                ev.inputCount = std::uint32_t(kVaryingFloatCount<V>);
-                                const VaryingArray<V> floats = std::bit_cast<VaryingArray<V>>(var);
-                                std::copy(floats.begin(), floats.end(), ev.inputs.begin());
-                                ev.inputFields = varyingFields<V>();
-                                setWatchedLightTerms(&ev.lights);
-                            }
-                            ps(in, out);
-                            ++counters.psInvocations;
-                            if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, kPerSample);
-                            shaded = true;
-                            if (watched) [[unlikely]] {
-                                setWatchedLightTerms(nullptr);
-                                watched->event.shaded = true;
-                                watched->event.discarded = out.discarded;
-                                if constexpr (kTargets > 0) watched->event.output = out.target[0];
-                            }
-                        }
-                    };
-                    if constexpr (kWritesDepth) {
-                        shade();
-                        if (out.discarded) return;
-                        const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
-                        for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
-                    }
-                    DepthStencilResult result[8]{};  // zeroed: GCC -O2 cannot see that only masked samples are read
-                    std::uint32_t depthCode[8]{};
-                    std::uint32_t passMask = 0, passCount = 0;
-                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                        if (!(mask & (1u << s))) continue;
-                        const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
-                        result[s] = depthStencilTest<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, depthCode[s]);
-                        if (result[s] == DepthStencilResult::Pass) {
-                            passMask |= 1u << s;
-                            ++passCount;
-                        }
-                    }
-                    if (watched) [[unlikely]] {
-                        const DepthStencilResult first = result[std::countr_zero(mask)];
-                        PixelDrawEvent& ev = watched->event;
-                        ev.outcome = first == DepthStencilResult::Pass        ? PixelDrawEvent::Outcome::Pass
-                                     : first == DepthStencilResult::DepthFail ? PixelDrawEvent::Outcome::DepthFail
-                                                                              : PixelDrawEvent::Outcome::StencilFail;
-                        if (dc.ds.stencilActive()) {
-                            const StencilFaceDesc& face = front ? dc.ds.desc.frontFace : dc.ds.desc.backFace;
-                            ev.stencilTested = true;
-                            ev.stencilRef = dc.ds.ref;
-                            ev.stencilOp = first == DepthStencilResult::Pass        ? face.passOp
-                                           : first == DepthStencilResult::DepthFail ? face.depthFailOp
-                                                                                    : face.failOp;
-                        }
-                    }
-                    if constexpr (kHasPs && !kWritesDepth) {
-                        // Early depth/stencil: the shader is skipped only where its result
-                        // cannot matter (no sample passes and a discard could not change
-                        // what the failing samples write).
-                        if (passMask != 0 || (kMayDiscard && failWrites)) shade();
-                        if (shaded && out.discarded) return;
-                    }
-                    if constexpr (kDepth != DepthKernel::Off) {
-                        for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                            if (!(mask & (1u << s))) continue;
-                            std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
-                            depthStencilUpdate<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, result[s], depthCode[s]);
-                        }
-                    }
-                    if constexpr (kHasPs) {
-                        if (shaded && passMask != 0) {
-                            for (int rt = 0; rt < kTargets; ++rt) {
-                                Surface* target = dc.colors[std::size_t(rt)];
-                                if (!target) continue;
-                                const glm::vec4& src = out.target[std::size_t(rt)];
-                                const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
-                                if ((overwrite || dc.rgba8Blend[std::size_t(rt)]) && lanes) {  // single-sampled: passMask == 1
-                                    stashColor(rt, lanes[p], src);
-                                    continue;
-                                }
-                                for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                    if (!(passMask & (1u << s))) continue;
-                                    if (overwrite && dc.fast) writeColorRgba8UnormFast(target->texel(px, py, s), src);
-                                    else if (overwrite) writeColorRgba8Unorm(target->texel(px, py, s), src);
-                                    else writeColorSample(target->format(), target->texel(px, py, s), src,
-                                                          dc.blend[std::size_t(rt)], dc.blendFactor);
-                                }
-                            }
-                        }
-                    }
-                    counters.samplesPassed += passCount;
-                    if (watched) [[unlikely]] watched->event.passed = passMask;
-                };
-                if constexpr (kPerSample) {
-                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                        if (!(pixelMask & (1u << s))) continue;
-                        const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
-                        const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
-                        float w = 0;
-                        const V var = interpolate<V>(t, store, sampleBary(s), w);
-                        resolveSamples(1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
-                    }
-                } else if constexpr (kHasPs) {
-                    const float zCentre = sampleCount == 1 ? zSample[0] : clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
-                    resolveSamples(pixelMask, 0, qc.varyings[std::size_t(p)], qc.posW[p], float(px) + 0.5f,
-                                   float(py) + 0.5f, zCentre);
-                } else {
-                    resolveSamples(pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
-                }
-            }
-        };
-
-        for (std::int32_t by = qy0; by < r.maxY; by += kBlock) {
-            for (std::int32_t bx = qx0; bx < r.maxX; bx += kBlock) {
+    // The triangle's blocks: skipped when no sample can be covered (TriangleEdges::blockReach),
+    // else through the SIMD block or quad by quad. Quads within a triangle cover disjoint
+    // pixels, so visiting them block by block instead of row by row changes no result.
+    void rasterizeTriangle() {
+        const SetupTriangle& t = *mTri;
+        const PixelRect& r = mRect;
+        const TriangleEdges& e = mEdges;
+        for (std::int32_t by = e.qy0; by < r.maxY; by += kBlock) {
+            for (std::int32_t bx = e.qx0; bx < r.maxX; bx += kBlock) {
                 std::int64_t eQuadRow[3];  // E_i at the centre of pixel (bx, qy)
                 bool outside = false;
                 for (int i = 0; i < 3; ++i) {
-                    eQuadRow[i] = eOrigin[i] + (bx - qx0) * stepX[i] + (by - qy0) * stepY[i];
-                    outside = outside || eQuadRow[i] + blockReach[i] < t.bias[i];
+                    eQuadRow[i] = e.eOrigin[i] + (bx - e.qx0) * e.stepX[i] + (by - e.qy0) * e.stepY[i];
+                    outside = outside || eQuadRow[i] + e.blockReach[i] < t.bias[i];
                 }
                 if (outside) continue;
                 const std::int32_t xEnd = std::min(bx + kBlock, r.maxX), yEnd = std::min(by + kBlock, r.maxY);
                 if constexpr (kSingleSample && kBlockVaryings) {
-                    // The SIMD block (quad_block.h): the same values as the per-quad path below, bit
-                    // for bit, 64 pixels at a time. Used where enough of the block lies in r.
-                    const bool blockWatched = watchHere && std::int32_t(dc.watch->x) >= bx && std::int32_t(dc.watch->x) < xEnd &&
-                                              std::int32_t(dc.watch->y) >= by && std::int32_t(dc.watch->y) < yEnd;
-                    if (dc.simdBlocks && !blockWatched && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels) {
-                        const QuadBlock::Edges edges{{eQuadRow[0], eQuadRow[1], eQuadRow[2]},
-                                                     {stepX[0], stepX[1], stepX[2]},
-                                                     {stepY[0], stepY[1], stepY[2]}};
-                        std::uint8_t columns = 0, rows = 0;
-                        for (std::int32_t c = 0; c < kBlock; ++c) {
-                            if (bx + c >= r.minX && bx + c < r.maxX) columns = std::uint8_t(columns | (1u << c));
-                            if (by + c >= r.minY && by + c < r.maxY) rows = std::uint8_t(rows | (1u << c));
-                        }
-                        // Trivially covered when every edge is at or above its bias at the block's
-                        // lowest corner (E_i is linear; the same exact integer bound as blockReach).
-                        bool inside = true;
-                        for (int i = 0; i < 3; ++i) inside = inside && eQuadRow[i] + blockLow[i] >= t.bias[i];
-                        std::uint64_t covered = 0;
-                        if (inside) {
-                            for (std::int32_t y = 0; y < kBlock; ++y)
-                                if ((rows >> y) & 1u) covered |= std::uint64_t(columns) << (y * kBlock);
-                        } else {
-                            covered = quadBlockCoverage(t, edges, columns, rows);
-                        }
-                        if (covered == 0) continue;
-                        ++counters.simdBlocks;
-                        quadBlockCentres(t, edges, store + t.varyingOffset, kHasPs ? std::uint32_t(kVaryingFloatCount<V>) : 0u,
-                                         kHasPs, dc.fast, block);
-                        auto laneVaryings = [&](int lane) {
-                            VaryingArray<V> v;
-                            for (std::size_t j = 0; j < v.size(); ++j)
-                                v[j] = block.varyings[j * QuadBlock::kPixels + std::size_t(lane)];
-                            return std::bit_cast<V>(v);
-                        };
-                        auto pixelOf = [&](int lane) {
-                            return std::array<std::uint32_t, 2>{std::uint32_t(bx + lane % kBlock), std::uint32_t(by + lane / kBlock)};
-                        };
-                        if (kLeanBlock && !failWrites) {
-                            ++counters.leanBlocks;
-                            // The whole block's depth test at once (before any shading: early depth,
-                            // as the per-quad path), then the shader on the passing pixels.
-                            std::uint64_t pass = covered;
-                            alignas(64) float zClamped[QuadBlock::kPixels];
-                            alignas(64) std::uint32_t incoming[QuadBlock::kPixels];
-                            if constexpr (kDepth == DepthKernel::Buffer) {
-                                alignas(64) std::uint32_t stored[QuadBlock::kPixels] = {};  // lanes outside `covered` stay 0
-                                for (std::uint64_t m = covered; m != 0; m &= m - 1) {
-                                    const int lane = std::countr_zero(m);
-                                    const auto [px, py] = pixelOf(lane);
-                                    std::memcpy(&stored[lane], dc.depthStencil->texel(px, py), 4);
-                                }
-                                pass = quadBlockDepthTest(block.z, stored, covered, depthD24, dc.ds.desc.depthFunc,
-                                                          vp.minDepth, vp.maxDepth, zClamped, incoming);
-                            } else {
-                                for (std::uint64_t m = covered; m != 0; m &= m - 1) {
-                                    const int lane = std::countr_zero(m);
-                                    zClamped[lane] = clampDepth(block.z[lane], vp.minDepth, vp.maxDepth);
-                                }
-                            }
-                            // Stores the depth of a passing lane (D24: the three code bytes; the
-                            // stencil byte is kept).
-                            auto writeDepth = [&](int lane) {
-                                if constexpr (kDepth == DepthKernel::Buffer) {
-                                    if (!dc.ds.desc.depthWriteEnable) return;
-                                    const auto [px, py] = pixelOf(lane);
-                                    std::memcpy(dc.depthStencil->texel(px, py), &incoming[lane], depthD24 ? 3 : 4);
-                                }
-                            };
-                            if constexpr (!kMayDiscard)
-                                for (std::uint64_t m = pass; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
-                            // The block's counts, kept in registers and added once (a per-pixel
-                            // add to the tile's counters was a store-to-load chain through memory).
-                            std::uint64_t quads = 0, shaded = 0, written = 0;
-                            for (std::int32_t qy = by; qy < yEnd; qy += 2) {
-                                for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
-                                    const int lane0 = (qy - by) * kBlock + (qx - bx);
-                                    const std::uint64_t quadBits = (std::uint64_t(3) << lane0) | (std::uint64_t(3) << (lane0 + kBlock));
-                                    if (!(covered & quadBits)) continue;
-                                    ++quads;
-                                    if constexpr (!kHasPs) {
-                                        written += std::uint64_t(std::popcount(pass & quadBits));
-                                    } else {
-                                        if (!(pass & quadBits)) continue;
-                                        const V var0 = laneVaryings(lane0);
-                                        const V ddx = subtract(laneVaryings(lane0 + 1), var0);
-                                        const V ddy = subtract(laneVaryings(lane0 + kBlock), var0);
-                                        for (int p = 0; p < 4; ++p) {
-                                            const int lane = lane0 + (p & 1) + (p >> 1) * kBlock;
-                                            if (!((pass >> lane) & 1u)) continue;
-                                            const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
-                                            PixelOutput<kTargets> out;
-                                            const PixelInput<V> in{p == 0 ? var0 : laneVaryings(lane), ddx, ddy,
-                                                                   glm::vec4(float(px) + 0.5f, float(py) + 0.5f, zClamped[lane],
-                                                                             block.posW[lane]),
-                                                                   front, 1u, 0u};
-                                            ps(in, out);
-                                            ++shaded;
-                                            if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, false);
-                                            if (out.discarded) continue;
-                                            if constexpr (kMayDiscard) writeDepth(lane);
-                                            ++written;
-                                            for (int rt = 0; rt < kTargets; ++rt) {
-                                                Surface* target = dc.colors[std::size_t(rt)];
-                                                if (!target) continue;
-                                                const glm::vec4& src = out.target[std::size_t(rt)];
-                                                if (dc.rgba8Overwrite[std::size_t(rt)] || dc.rgba8Blend[std::size_t(rt)]) {
-                                                    stashColor(rt, lane, src);
-                                                } else {
-                                                    writeColorSample(target->format(), target->texel(px, py), src,
-                                                                     dc.blend[std::size_t(rt)], dc.blendFactor);
-                                                }
-                                            }
-                                        }
-                                    }
-                                }
-                            }
-                            counters.quads += quads;
-                            counters.psInvocations += shaded;
-                            counters.samplesPassed += written;
-                        } else {
-                            for (std::int32_t qy = by; qy < yEnd; qy += 2) {
-                                for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
-                                    const int lane[4] = {(qy - by) * kBlock + (qx - bx), (qy - by) * kBlock + (qx - bx) + 1,
-                                                         (qy - by + 1) * kBlock + (qx - bx), (qy - by + 1) * kBlock + (qx - bx) + 1};
-                                    std::uint32_t quadMask = 0;
-                                    for (int p = 0; p < 4; ++p) quadMask |= std::uint32_t((covered >> lane[p]) & 1u) << p;
-                                    if (quadMask == 0) continue;
-                                    ++counters.quads;
-                                    QuadCentres<V> qc;
-                                    for (int p = 0; p < 4; ++p) {
-                                        for (int i = 0; i < 3; ++i) qc.l[i][p] = block.l[i][lane[p]];
-                                        qc.z[p] = block.z[lane[p]];
-                                        if constexpr (kHasPs) {
-                                            qc.posW[p] = block.posW[lane[p]];
-                                            qc.varyings[std::size_t(p)] = laneVaryings(lane[p]);
-                                        }
-                                    }
-                                    shadeQuad(qx, qy, quadMask, qc, kNoEdges, lane);
-                                }
-                            }
-                        }
-                        // The triangle's stashed RGBA8 colours in this block, blended and encoded 64
-                        // at a time. Deferring them is invisible: a triangle's pixels are disjoint
-                        // and nothing reads a colour target before the next triangle starts.
-                        for (int rt = 0; rt < kTargets; ++rt) {
-                            std::uint64_t pending = stash.pending[rt];
-                            if (pending == 0) continue;
-                            Surface* target = dc.colors[std::size_t(rt)];
-                            const bool blend = dc.rgba8Blend[std::size_t(rt)];
-                            if (blend) {
-                                alignas(64) std::uint32_t dstCodes[QuadBlock::kPixels] = {};
-                                for (std::uint64_t m = pending; m != 0; m &= m - 1) {
-                                    const int lane = std::countr_zero(m);
-                                    const auto [px, py] = pixelOf(lane);
-                                    std::memcpy(&dstCodes[lane], target->texel(px, py), 4);
-                                }
-                                quadBlockBlendRgba8(stash.rgba[rt], dstCodes, dc.blend[std::size_t(rt)], dc.blendFactor);
-                            }
-                            // writeColorSample encodes blends exactly in every precision mode.
-                            alignas(64) std::uint32_t codes[QuadBlock::kPixels];
-                            quadBlockEncodeRgba8(stash.rgba[rt], dc.fast && !blend, codes);
-                            for (int row = 0; row < kBlock; ++row) {
-                                auto rowBits = std::uint32_t((pending >> (row * kBlock)) & 0xFFu);
-                                if (rowBits == 0) continue;
-                                // A row's texels are contiguous (single-sampled): one copy when all
-                                // eight are written, else texel by texel.
-                                std::byte* rowTexels = target->texel(std::uint32_t(bx), std::uint32_t(by + row));
-                                if (rowBits == 0xFFu) {
-                                    std::memcpy(rowTexels, &codes[row * kBlock], 4 * kBlock);
-                                    continue;
-                                }
-                                for (; rowBits != 0; rowBits &= rowBits - 1) {
-                                    const int column = std::countr_zero(rowBits);
-                                    std::memcpy(rowTexels + 4 * column, &codes[row * kBlock + column], 4);
-                                }
-                            }
-                            stash.pending[rt] = 0;
-                        }
-                        continue;
-                    }
+                    if (simdBlock(bx, by, xEnd, yEnd, eQuadRow)) continue;
                 }
-                for (std::int32_t qy = by; qy < yEnd; qy += 2) {
-                    std::int64_t eQuad[3] = {eQuadRow[0], eQuadRow[1], eQuadRow[2]};
-                    for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
-                        // E_i at the four pixel centres: TL, TR, BL, BR.
-                        std::int64_t ePix[4][3];
-                        for (int i = 0; i < 3; ++i) {
-                            ePix[0][i] = eQuad[i];
-                            ePix[1][i] = eQuad[i] + stepX[i];
-                            ePix[2][i] = eQuad[i] + stepY[i];
-                            ePix[3][i] = eQuad[i] + stepX[i] + stepY[i];
-                            eQuad[i] += 2 * stepX[i];
-                        }
-                        // Coverage: bit (pixel * sampleCount + s); pixels 0..3 = TL, TR, BL, BR.
-                        std::uint32_t quadMask = 0;
-                        // Columns / rows of the quad inside r (bit 0: left / top, bit 1: right / bottom);
-                        // qx + 1 >= r.minX and qx < r.maxX hold by construction, likewise for y.
-                        const std::uint32_t colIn = (qx >= r.minX ? 1u : 0u) | (qx + 1 < r.maxX ? 2u : 0u);
-                        const std::uint32_t rowIn = (qy >= r.minY ? 1u : 0u) | (qy + 1 < r.maxY ? 2u : 0u);
-                        for (int p = 0; p < 4; ++p) {
-                            if (!((colIn >> (p & 1)) & (rowIn >> (p >> 1)) & 1u)) continue;
-                            for (std::uint32_t s = 0; s < sampleCount; ++s) {
-                                bool in = true;
-                                for (int i = 0; i < 3 && in; ++i) in = ePix[p][i] + sampleDelta[s][i] >= t.bias[i];
-                                if (in) quadMask |= 1u << (p * sampleCount + s);
-                            }
-                        }
-                        if (quadMask == 0) continue;
-                        ++counters.quads;
-
-                        // Barycentrics, depth and varyings at the four pixel centres (helper pixels
-                        // included, for derivatives).
-                        QuadCentres<V> qc;
-                        quadCentres<V, kHasPs>(t, store, ePix, qc, dc.fast);
-                        shadeQuad(qx, qy, quadMask, qc, ePix, nullptr);
-                    }
-                    for (int i = 0; i < 3; ++i) eQuadRow[i] += 2 * stepY[i];
-                }
+                quadsOfBlock(bx, by, xEnd, yEnd, eQuadRow);
             }
         }
     }
-    tileCounters.quads += counters.quads;
-    tileCounters.psInvocations += counters.psInvocations;
-    tileCounters.samplesPassed += counters.samplesPassed;
-    tileCounters.simdBlocks += counters.simdBlocks;
-    tileCounters.leanBlocks += counters.leanBlocks;
+
+    // The SIMD block (quad_block.h): the same values as the per-quad path, bit for bit, 64 pixels
+    // at a time. Used where enough of the block lies in r; false: the per-quad path takes it.
+    bool simdBlock(std::int32_t bx, std::int32_t by, std::int32_t xEnd, std::int32_t yEnd, const std::int64_t (&eQuadRow)[3]) {
+        const DrawContext& dc = mDc;
+        const SetupTriangle& t = *mTri;
+        const TriangleEdges& e = mEdges;
+        const bool blockWatched = mWatchHere && std::int32_t(dc.watch->x) >= bx && std::int32_t(dc.watch->x) < xEnd &&
+                                  std::int32_t(dc.watch->y) >= by && std::int32_t(dc.watch->y) < yEnd;
+        if (!(dc.simdBlocks && !blockWatched && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels)) return false;
+        const QuadBlock::Edges edges{{eQuadRow[0], eQuadRow[1], eQuadRow[2]},
+                                     {e.stepX[0], e.stepX[1], e.stepX[2]},
+                                     {e.stepY[0], e.stepY[1], e.stepY[2]}};
+        const std::uint64_t covered = simdBlockCoverage(t, e, edges, mRect, bx, by);
+        if (covered == 0) return true;
+        ++mCounters.simdBlocks;
+        quadBlockCentres(t, edges, mStore + t.varyingOffset, kHasPs ? std::uint32_t(kVaryingFloatCount<V>) : 0u,
+                         kHasPs, dc.fast, mBlock);
+        if (kLeanBlock && !mFailWrites) leanBlock(bx, by, xEnd, yEnd, covered);
+        else blockQuads(bx, by, xEnd, yEnd, covered);
+        // The triangle's stashed RGBA8 colours in this block, blended and encoded 64
+        // at a time. Deferring them is invisible: a triangle's pixels are disjoint
+        // and nothing reads a colour target before the next triangle starts.
+        for (int rt = 0; rt < kTargets; ++rt) {
+            if (mStash.pending[rt] == 0) continue;
+            storeStashedRgba8(*dc.colors[std::size_t(rt)], mStash.rgba[rt], mStash.pending[rt], dc.rgba8Blend[std::size_t(rt)],
+                              dc.blend[std::size_t(rt)], dc.blendFactor, dc.fast, bx, by);
+            mStash.pending[rt] = 0;
+        }
+        return true;
+    }
+
+    // The lean block pipeline (kLeanBlock): the whole block's depth test at once (before any
+    // shading: early depth, as the per-quad path), then the shader on the passing pixels.
+    void leanBlock(std::int32_t bx, std::int32_t by, std::int32_t xEnd, std::int32_t yEnd, std::uint64_t covered) {
+        const DrawContext& dc = mDc;
+        const Viewport& vp = mVp;
+        const QuadBlock& block = mBlock;
+        const bool depthD24 = mDepthD24;
+        const bool front = mFront;
+        ++mCounters.leanBlocks;
+        std::uint64_t pass = covered;
+        alignas(64) float zClamped[QuadBlock::kPixels];
+        alignas(64) std::uint32_t incoming[QuadBlock::kPixels];
+        if constexpr (kDepth == DepthKernel::Buffer) {
+            alignas(64) std::uint32_t stored[QuadBlock::kPixels] = {};  // lanes outside `covered` stay 0
+            for (std::uint64_t m = covered; m != 0; m &= m - 1) {
+                const int lane = std::countr_zero(m);
+                const auto [px, py] = pixelOf(bx, by, lane);
+                std::memcpy(&stored[lane], dc.depthStencil->texel(px, py), 4);
+            }
+            pass = quadBlockDepthTest(block.z, stored, covered, depthD24, dc.ds.desc.depthFunc,
+                                      vp.minDepth, vp.maxDepth, zClamped, incoming);
+        } else {
+            for (std::uint64_t m = covered; m != 0; m &= m - 1) {
+                const int lane = std::countr_zero(m);
+                zClamped[lane] = clampDepth(block.z[lane], vp.minDepth, vp.maxDepth);
+            }
+        }
+        // Stores the depth of a passing lane (D24: the three code bytes; the
+        // stencil byte is kept).
+        auto writeDepth = [&](int lane) {
+            if constexpr (kDepth == DepthKernel::Buffer) {
+                if (!dc.ds.desc.depthWriteEnable) return;
+                const auto [px, py] = pixelOf(bx, by, lane);
+                std::memcpy(dc.depthStencil->texel(px, py), &incoming[lane], depthD24 ? 3 : 4);
+            }
+        };
+        if constexpr (!kMayDiscard)
+            for (std::uint64_t m = pass; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
+        // The block's counts, kept in registers and added once (a per-pixel
+        // add to the tile's counters was a store-to-load chain through memory).
+        std::uint64_t quads = 0, shaded = 0, written = 0;
+        for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+            for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                const int lane0 = (qy - by) * kBlock + (qx - bx);
+                const std::uint64_t quadBits = (std::uint64_t(3) << lane0) | (std::uint64_t(3) << (lane0 + kBlock));
+                if (!(covered & quadBits)) continue;
+                ++quads;
+                if constexpr (!kHasPs) {
+                    written += std::uint64_t(std::popcount(pass & quadBits));
+                } else {
+                    if (!(pass & quadBits)) continue;
+                    const V var0 = laneVaryings(lane0);
+                    const V ddx = subtract(laneVaryings(lane0 + 1), var0);
+                    const V ddy = subtract(laneVaryings(lane0 + kBlock), var0);
+                    for (int p = 0; p < 4; ++p) {
+                        const int lane = lane0 + (p & 1) + (p >> 1) * kBlock;
+                        if (!((pass >> lane) & 1u)) continue;
+                        const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
+                        PixelOutput<kTargets> out;
+                        const PixelInput<V> in{p == 0 ? var0 : laneVaryings(lane), ddx, ddy,
+                                               glm::vec4(float(px) + 0.5f, float(py) + 0.5f, zClamped[lane],
+                                                         block.posW[lane]),
+                                               front, 1u, 0u};
+                        mPs(in, out);
+                        ++shaded;
+                        if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, false);
+                        if (out.discarded) continue;
+                        if constexpr (kMayDiscard) writeDepth(lane);
+                        ++written;
+                        for (int rt = 0; rt < kTargets; ++rt) {
+                            Surface* target = dc.colors[std::size_t(rt)];
+                            if (!target) continue;
+                            const glm::vec4& src = out.target[std::size_t(rt)];
+                            if (dc.rgba8Overwrite[std::size_t(rt)] || dc.rgba8Blend[std::size_t(rt)]) {
+                                stashColor(rt, lane, src);
+                            } else {
+                                writeColorSample(target->format(), target->texel(px, py), src,
+                                                 dc.blend[std::size_t(rt)], dc.blendFactor);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        mCounters.quads += quads;
+        mCounters.psInvocations += shaded;
+        mCounters.samplesPassed += written;
+    }
+
+    // A SIMD block whose state needs more than the lean pipeline: its quads through shadeQuad,
+    // their values taken from the block.
+    void blockQuads(std::int32_t bx, std::int32_t by, std::int32_t xEnd, std::int32_t yEnd, std::uint64_t covered) {
+        const QuadBlock& block = mBlock;
+        for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+            for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                const int lane[4] = {(qy - by) * kBlock + (qx - bx), (qy - by) * kBlock + (qx - bx) + 1,
+                                     (qy - by + 1) * kBlock + (qx - bx), (qy - by + 1) * kBlock + (qx - bx) + 1};
+                std::uint32_t quadMask = 0;
+                for (int p = 0; p < 4; ++p) quadMask |= std::uint32_t((covered >> lane[p]) & 1u) << p;
+                if (quadMask == 0) continue;
+                ++mCounters.quads;
+                QuadCentres<V> qc;
+                for (int p = 0; p < 4; ++p) {
+                    for (int i = 0; i < 3; ++i) qc.l[i][p] = block.l[i][lane[p]];
+                    qc.z[p] = block.z[lane[p]];
+                    if constexpr (kHasPs) {
+                        qc.posW[p] = block.posW[lane[p]];
+                        qc.varyings[std::size_t(p)] = laneVaryings(lane[p]);
+                    }
+                }
+                shadeQuad(qx, qy, quadMask, qc, kNoEdges, lane);
+            }
+        }
+    }
+
+    // The per-quad path over one block: coverage of every sample of each quad in r, then
+    // barycentrics, depth and varyings at the four pixel centres and shadeQuad.
+    void quadsOfBlock(std::int32_t bx, std::int32_t by, std::int32_t xEnd, std::int32_t yEnd, std::int64_t (&eQuadRow)[3]) {
+        const SetupTriangle& t = *mTri;
+        const PixelRect& r = mRect;
+        const TriangleEdges& e = mEdges;
+        const std::uint32_t sampleCount = mSampleCount;
+        for (std::int32_t qy = by; qy < yEnd; qy += 2) {
+            std::int64_t eQuad[3] = {eQuadRow[0], eQuadRow[1], eQuadRow[2]};
+            for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                // E_i at the four pixel centres: TL, TR, BL, BR.
+                std::int64_t ePix[4][3];
+                for (int i = 0; i < 3; ++i) {
+                    ePix[0][i] = eQuad[i];
+                    ePix[1][i] = eQuad[i] + e.stepX[i];
+                    ePix[2][i] = eQuad[i] + e.stepY[i];
+                    ePix[3][i] = eQuad[i] + e.stepX[i] + e.stepY[i];
+                    eQuad[i] += 2 * e.stepX[i];
+                }
+                // Coverage: bit (pixel * sampleCount + s); pixels 0..3 = TL, TR, BL, BR.
+                std::uint32_t quadMask = 0;
+                // Columns / rows of the quad inside r (bit 0: left / top, bit 1: right / bottom);
+                // qx + 1 >= r.minX and qx < r.maxX hold by construction, likewise for y.
+                const std::uint32_t colIn = (qx >= r.minX ? 1u : 0u) | (qx + 1 < r.maxX ? 2u : 0u);
+                const std::uint32_t rowIn = (qy >= r.minY ? 1u : 0u) | (qy + 1 < r.maxY ? 2u : 0u);
+                for (int p = 0; p < 4; ++p) {
+                    if (!((colIn >> (p & 1)) & (rowIn >> (p >> 1)) & 1u)) continue;
+                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                        bool in = true;
+                        for (int i = 0; i < 3 && in; ++i) in = ePix[p][i] + e.sampleDelta[s][i] >= t.bias[i];
+                        if (in) quadMask |= 1u << (p * sampleCount + s);
+                    }
+                }
+                if (quadMask == 0) continue;
+                ++mCounters.quads;
+
+                // Barycentrics, depth and varyings at the four pixel centres (helper pixels
+                // included, for derivatives).
+                QuadCentres<V> qc;
+                quadCentres<V, kHasPs>(t, mStore, ePix, qc, mDc.fast);
+                shadeQuad(qx, qy, quadMask, qc, ePix, nullptr);
+            }
+            for (int i = 0; i < 3; ++i) eQuadRow[i] += 2 * e.stepY[i];
+        }
+    }
+
+    // Depth/stencil, shading and the output merger for one quad whose centres are in qc;
+    // ePix (E_i at the pixel centres) gives the samples' barycentrics when multisampled.
+    // lanes: the pixels' lanes in the SIMD block (nullptr on the per-quad path); their RGBA8
+    // overwrites go to the block's colour stash, encoded and stored when the block is done.
+    void shadeQuad(std::int32_t qx, std::int32_t qy, std::uint32_t quadMask, const QuadCentres<V>& qc,
+                   const std::int64_t (&ePix)[4][3], const int* lanes) {
+        const DrawContext& dc = mDc;
+        const SetupTriangle& t = *mTri;
+        const Viewport& vp = mVp;
+        const std::uint32_t sampleCount = mSampleCount;
+        const auto& sampleDelta = mEdges.sampleDelta;
+        [[maybe_unused]] V ddx{}, ddy{};
+        if constexpr (kHasPs) {
+            ddx = subtract(qc.varyings[1], qc.varyings[0]);
+            ddy = subtract(qc.varyings[2], qc.varyings[0]);
+        }
+
+        for (int p = 0; p < 4; ++p) {
+            const std::uint32_t pixelMask = (quadMask >> (p * sampleCount)) & ((1u << sampleCount) - 1u);
+            if (pixelMask == 0) continue;
+            const std::uint32_t px = std::uint32_t(qx + (p & 1)), py = std::uint32_t(qy + (p >> 1));
+            // Barycentrics at sample s (the centre's when single-sampled: offset 0).
+            auto sampleBary = [&](std::uint32_t s) {
+                if (sampleCount == 1) return qc.bary(p);
+                const std::int64_t e[3] = {ePix[p][0] + sampleDelta[s][0], ePix[p][1] + sampleDelta[s][1],
+                                           ePix[p][2] + sampleDelta[s][2]};
+                return baryFromEdges(t, e);
+            };
+            float zSample[8];
+            if (sampleCount == 1) {
+                zSample[0] = clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+            } else {
+                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                    if (!(pixelMask & (1u << s))) continue;
+                    zSample[s] = clampDepth(depthAt(t, sampleBary(s)), vp.minDepth, vp.maxDepth);
+                }
+            }
+            const PixelSite site{px, py, p, pixelMask, lanes};
+            if constexpr (kPerSample) {
+                for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                    if (!(pixelMask & (1u << s))) continue;
+                    const std::int64_t X = std::int64_t(px) * fixed::kOne + fixed::kHalf + dc.samples[s].x * 16;
+                    const std::int64_t Y = std::int64_t(py) * fixed::kOne + fixed::kHalf + dc.samples[s].y * 16;
+                    float w = 0;
+                    const V var = interpolate<V>(t, mStore, sampleBary(s), w);
+                    resolveSamples(site, zSample, ddx, ddy, 1u << s, s, var, w, float(X) / 256.0f, float(Y) / 256.0f, zSample[s]);
+                }
+            } else if constexpr (kHasPs) {
+                const float zCentre = sampleCount == 1 ? zSample[0] : clampDepth(qc.z[p], vp.minDepth, vp.maxDepth);
+                resolveSamples(site, zSample, ddx, ddy, pixelMask, 0, qc.varyings[std::size_t(p)], qc.posW[p],
+                               float(px) + 0.5f, float(py) + 0.5f, zCentre);
+            } else {
+                resolveSamples(site, zSample, ddx, ddy, pixelMask, 0, V{}, 0.0f, float(px) + 0.5f, float(py) + 0.5f, 0.0f);
+            }
+        }
+    }
+
+    // A pixel of a quad being resolved: its position, its index in the quad, its covered samples
+    // and the quad's lanes in the SIMD block (nullptr on the per-quad path).
+    struct PixelSite {
+        std::uint32_t px, py;
+        int p;
+        std::uint32_t pixelMask;
+        const int* lanes;
+    };
+
+    // Shades, tests and writes the samples in `mask` with one shader result.
+    // zPs is SV_Position.z: depth at the pixel centre, or at the sample when the
+    // shader runs per sample (clamped to the viewport range like the samples).
+    void resolveSamples(const PixelSite& site, float (&zSample)[8], const V& ddx, const V& ddy, std::uint32_t mask,
+                        std::uint32_t sampleIndex, const V& var, float posW, float xWin, float yWin, float zPs) {
+        const DrawContext& dc = mDc;
+        [[maybe_unused]] const SetupTriangle& t = *mTri;
+        [[maybe_unused]] const Viewport& vp = mVp;
+        const std::uint32_t sampleCount = mSampleCount;
+        const bool front = mFront, depthD24 = mDepthD24;
+        const std::uint32_t px = site.px, py = site.py;
+        [[maybe_unused]] const std::uint32_t pixelMask = site.pixelMask;
+        [[maybe_unused]] const int p = site.p;
+        [[maybe_unused]] const int* const lanes = site.lanes;
+        [[maybe_unused]] PixelOutput<kTargets> out;
+        bool shaded = false;
+        std::optional<WatchRecord> watched;  // engaged only at the watched pixel
+        if (mWatchHere && px == dc.watch->x && py == dc.watch->y) [[unlikely]] {
+            watched.emplace();
+            watched->begin(dc.watch, kTargets > 0 ? dc.colors[0] : nullptr, dc.depthStencil, px, py);
+            watched->event.draw = dc.drawNumber;
+            watched->event.primitive = t.primitive;
+            watched->event.coverage = mask;
+            watched->event.frontFacing = front;
+            watched->event.z = zSample[std::countr_zero(mask)];
+        }
+        auto shade = [&] {
+            if constexpr (kHasPs) {
+                PixelInput<V> in{var, ddx, ddy, glm::vec4(xWin, yWin, zPs, posW), front,
+                                 pixelMask, sampleIndex};
+                if (watched) [[unlikely]] {  // the inputs, and a place for the light loops' terms
+                    PixelDrawEvent& ev = watched->event;
+                    ev.posWindow = in.posWindow;
+                    ev.sampleIndex = sampleIndex;
+                    ev.inputCount = std::uint32_t(kVaryingFloatCount<V>);
+                    const VaryingArray<V> floats = std::bit_cast<VaryingArray<V>>(var);
+                    std::copy(floats.begin(), floats.end(), ev.inputs.begin());
+                    ev.inputFields = varyingFields<V>();
+                    setWatchedLightTerms(&ev.lights);
+                }
+                mPs(in, out);
+                ++mCounters.psInvocations;
+                if (dc.shadeCounts) [[unlikely]] dc.shadeCounts->add(px, py, kPerSample);
+                shaded = true;
+                if (watched) [[unlikely]] {
+                    setWatchedLightTerms(nullptr);
+                    watched->event.shaded = true;
+                    watched->event.discarded = out.discarded;
+                    if constexpr (kTargets > 0) watched->event.output = out.target[0];
+                }
+            }
+        };
+        if constexpr (kWritesDepth) {
+            shade();
+            if (out.discarded) return;
+            const float zOut = clampDepth(out.depth, vp.minDepth, vp.maxDepth);
+            for (std::uint32_t s = 0; s < sampleCount; ++s) zSample[s] = zOut;
+        }
+        DepthStencilResult result[8]{};  // zeroed: GCC -O2 cannot see that only masked samples are read
+        std::uint32_t depthCode[8]{};
+        std::uint32_t passMask = 0, passCount = 0;
+        for (std::uint32_t s = 0; s < sampleCount; ++s) {
+            if (!(mask & (1u << s))) continue;
+            const std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
+            result[s] = depthStencilTest<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, depthCode[s]);
+            if (result[s] == DepthStencilResult::Pass) {
+                passMask |= 1u << s;
+                ++passCount;
+            }
+        }
+        if (watched) [[unlikely]] {
+            const DepthStencilResult first = result[std::countr_zero(mask)];
+            PixelDrawEvent& ev = watched->event;
+            ev.outcome = first == DepthStencilResult::Pass        ? PixelDrawEvent::Outcome::Pass
+                         : first == DepthStencilResult::DepthFail ? PixelDrawEvent::Outcome::DepthFail
+                                                                  : PixelDrawEvent::Outcome::StencilFail;
+            if (dc.ds.stencilActive()) {
+                const StencilFaceDesc& face = front ? dc.ds.desc.frontFace : dc.ds.desc.backFace;
+                ev.stencilTested = true;
+                ev.stencilRef = dc.ds.ref;
+                ev.stencilOp = first == DepthStencilResult::Pass        ? face.passOp
+                               : first == DepthStencilResult::DepthFail ? face.depthFailOp
+                                                                        : face.failOp;
+            }
+        }
+        if constexpr (kHasPs && !kWritesDepth) {
+            // Early depth/stencil: the shader is skipped only where its result
+            // cannot matter (no sample passes and a discard could not change
+            // what the failing samples write).
+            if (passMask != 0 || (kMayDiscard && mFailWrites)) shade();
+            if (shaded && out.discarded) return;
+        }
+        if constexpr (kDepth != DepthKernel::Off) {
+            for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                if (!(mask & (1u << s))) continue;
+                std::byte* dsTexel = dc.depthStencil ? dc.depthStencil->texel(px, py, s) : nullptr;
+                depthStencilUpdate<kDepth>(dc.ds, depthD24, dsTexel, zSample[s], front, result[s], depthCode[s]);
+            }
+        }
+        if constexpr (kHasPs) {
+            if (shaded && passMask != 0) {
+                for (int rt = 0; rt < kTargets; ++rt) {
+                    Surface* target = dc.colors[std::size_t(rt)];
+                    if (!target) continue;
+                    const glm::vec4& src = out.target[std::size_t(rt)];
+                    const bool overwrite = dc.rgba8Overwrite[std::size_t(rt)];
+                    if ((overwrite || dc.rgba8Blend[std::size_t(rt)]) && lanes) {  // single-sampled: passMask == 1
+                        stashColor(rt, lanes[p], src);
+                        continue;
+                    }
+                    for (std::uint32_t s = 0; s < sampleCount; ++s) {
+                        if (!(passMask & (1u << s))) continue;
+                        if (overwrite && dc.fast) writeColorRgba8UnormFast(target->texel(px, py, s), src);
+                        else if (overwrite) writeColorRgba8Unorm(target->texel(px, py, s), src);
+                        else writeColorSample(target->format(), target->texel(px, py, s), src,
+                                              dc.blend[std::size_t(rt)], dc.blendFactor);
+                    }
+                }
+            }
+        }
+        mCounters.samplesPassed += passCount;
+        if (watched) [[unlikely]] watched->event.passed = passMask;
+    }
+
+    const DrawContext& mDc;
+    const PixelRect mTile;
+    const std::vector<SetupChunk>& mChunks;
+    const PS& mPs;
+    const std::uint32_t mSampleCount;
+    const Viewport& mVp;
+    const bool mDepthD24;  // Buffer's format, fixed for the draw: D24 (else D32)
+    const bool mWatchHere;
+    // Counted locally and stored once: the tiles' counters sit side by side in one vector, so
+    // per-pixel increments there would bounce cache lines between threads (false sharing).
+    TileCounters mCounters;
+    ColorStash mStash{};
+    QuadBlock mBlock;
+    // The triangle being rasterized: its setup, the chunk's varyings, its rectangle in the tile,
+    // its facing, whether failing samples can write (DepthStencilUnit::failCanWrite), its edges.
+    const SetupTriangle* mTri = nullptr;
+    const float* mStore = nullptr;
+    PixelRect mRect{};
+    bool mFront = true, mFailWrites = false;
+    TriangleEdges mEdges;
+};
+
+template <class PS, Varyings V, DepthKernel kDepth, bool kSingleSample>
+void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
+                   const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& tileCounters) {
+    TileRasterizer<PS, V, kDepth, kSingleSample>(dc, tile, chunks, ps).run(list, tileCounters);
 }
 
 } // namespace detail
