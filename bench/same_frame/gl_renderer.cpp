@@ -559,7 +559,7 @@ void GlRenderer::Impl::drawForwardPass(bool transparentPass, GLenum depthFunc, b
     }
 }
 
-// forward_plus.cpp drawDepthPrepass: opaque items, VS only, depth LESS with writes.
+// forward_plus_prepass.cpp drawDepthPrepass: opaque items, VS only, depth LESS with writes.
 void GlRenderer::Impl::drawPrepass() const {
     glBindFramebuffer(GL_FRAMEBUFFER, mainFbo);
     glViewport(0, 0, GLsizei(width), GLsizei(height));

@@ -230,7 +230,7 @@ TEST_CASE("forward-plus: binned culling gives the brute-force loop's lists") {
     appendLightsBesideCamera(lights);
     // Spots around the eye (and crossing its plane), wide and narrow, in every direction: the
     // binned path decides most side planes from the cone's bounding sphere and the near, far and
-    // min planes from per-light terms (forward_plus.cpp SpotCullTerms); the brute path runs
+    // min planes from per-light terms (forward_plus_detail.h SpotCullTerms); the brute path runs
     // coneInsideFrustum itself.
     for (int k = 0; k < 80; ++k) {
         const float a = float(k) * 1.3f;

@@ -50,10 +50,10 @@ namespace tessera {
 //       against the tile-column and tile-row planes (a binary search; for a light reaching the
 //       eye's plane every column and row, kept as up to two runs), and each tile tests only
 //       those lights, in the same ascending order: per tile row in parallel, no thread groups
-//       (forward_plus.cpp "row-parallel culling"); the scratch is kept from frame to frame. A
+//       (forward_plus_row_culling.cpp "row-parallel culling"); the scratch is kept from frame to frame. A
 //       spot light's cone tests take the near, far and min planes from per-light terms and
 //       decide a side plane from the cone's bounding sphere where the sphere is clearly on one
-//       side (forward_plus.cpp SpotCullTerms): the same booleans, cheaper.
+//       side (forward_plus_detail.h SpotCullTerms): the same booleans, cheaper.
 // Light order inside a tile list: ascending light index (the strided loop appends in lockstep,
 // compute/dispatch.h order rule 2); tiles take their global offsets in row-major order
 // (compute/ordered_counter.h), at any thread count.
