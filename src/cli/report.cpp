@@ -9,8 +9,10 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <tessera/inspect/buffer_view.h>
 #include <tessera/io/atomic_file.h>
@@ -206,6 +208,92 @@ std::string shotsHtml(const std::vector<Shot>& shots) {
     return out + "</div>\n";
 }
 
+// The technique's final image against forward's: max abs difference (codes), RMSE and differing pixels.
+void differenceFromForward(const Surface& back, const Surface* forwardFinal, std::uint32_t width, std::uint32_t height,
+                           TechniqueReport& tr) {
+    double sumSquares = 0;
+    for (std::uint32_t y = 0; y < height; ++y)
+        for (std::uint32_t x = 0; x < width; ++x) {
+            bool differs = false;
+            for (int c = 0; c < 3; ++c) {
+                const double d = std::abs(double(std::to_integer<int>(back.texel(x, y)[c])) -
+                                          double(std::to_integer<int>(forwardFinal->texel(x, y)[c])));
+                tr.maxAbs = std::max(tr.maxAbs, d);
+                sumSquares += d * d;
+                differs = differs || d > 0;
+            }
+            tr.differing += differs ? 1 : 0;
+        }
+    tr.rmse = std::sqrt(sumSquares / (3.0 * double(width) * double(height)));
+}
+
+// index.html: the difference table, then each technique's final image, passes and light steps.
+std::string reportPage(const std::vector<TechniqueReport>& reports, const fs::path& sceneFile, const Scene& scene,
+                       std::uint32_t width, std::uint32_t height, const std::optional<std::uint32_t>& chosenLight) {
+    std::string page = R"(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>tessera report</title>
+<style>
+body { font-family: sans-serif; margin: 2em; max-width: 1400px; color: #222; }
+h2 { border-top: 2px solid #888; padding-top: 0.6em; }
+.shots { display: flex; flex-wrap: wrap; gap: 12px; }
+figure { margin: 0; max-width: 320px; font-size: 0.8em; }
+figure img { width: 320px; image-rendering: pixelated; border: 1px solid #ccc; }
+table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+td:first-child, th:first-child { text-align: left; }
+.pass { margin-left: 1em; } .meta { color: #666; font-size: 0.9em; }
+</style>
+<script>
+// Records failed resources and, once loaded, how many images decoded, for tests and readers.
+window.addEventListener('error', function () {
+  var s = document.getElementById('status'); s.setAttribute('data-errors', String(Number(s.getAttribute('data-errors') || 0) + 1));
+}, true);
+window.addEventListener('load', function () {
+  var images = Array.prototype.slice.call(document.images);
+  var ok = images.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
+  var s = document.getElementById('status');
+  s.textContent = 'images ' + ok + '/' + images.length + ', errors ' + (s.getAttribute('data-errors') || 0);
+});
+</script></head><body>
+)";
+    page += "<h1>tessera: the techniques step by step</h1>\n<p class=\"meta\">Scene <code>" + html(sceneFile.string()) + "</code>, " +
+            std::to_string(width) + "&times;" + std::to_string(height) + ", " + std::to_string(scene.lights.size()) +
+            " lights, precision exact, faithful options. Sources: docs/sources.md; errata: ERRATA.md. " +
+            "<span id=\"status\">loading</span></p>\n";
+    page += "<h2>Difference from forward</h2>\n<table><tr><th>technique</th><th>max abs (codes)</th><th>RMSE</th><th>differing "
+            "px</th><th>why (ERRATA.md)</th></tr>\n";
+    for (const TechniqueReport& tr : reports) {
+        if (tr.id == "forward") continue;
+        char row[256];
+        std::snprintf(row, sizeof(row), "<tr><td>%s</td><td>%.0f</td><td>%.3f</td><td>%llu (%.2f%%)</td>", tr.id.c_str(), tr.maxAbs,
+                      tr.rmse, (unsigned long long)tr.differing, 100.0 * double(tr.differing) / (double(width) * height));
+        page += row + std::string("<td style=\"text-align:left\">") + html(tr.why) + "</td></tr>\n";
+    }
+    page += "</table>\n";
+    for (const TechniqueReport& tr : reports) {
+        page += "<h2 id=\"" + html(tr.id) + "\">" + html(tr.id) + "</h2>\n<p>" + html(tr.summary) + " <span class=\"meta\">(" +
+                html(tr.source) + ")</span></p>\n";
+        page += shotsHtml({{tr.finalFile, "the back buffer after the last pass", "final image"}});
+        for (const PassReport& p : tr.passes) {
+            char ms[96];
+            std::snprintf(ms, sizeof(ms), "%.2f ms; buffers alive %.2f MiB", p.ms, p.bufferMiB);
+            std::string reads, writes;
+            for (const std::string& r : p.reads) reads += (reads.empty() ? "" : ", ") + r;
+            for (const std::string& w : p.writes) writes += (writes.empty() ? "" : ", ") + w;
+            page += "<div class=\"pass\"><h3>" + html(p.name) + " <span class=\"meta\">" + ms + "</span></h3>\n<p>" +
+                    html(caption(tr.id, p.name)) + "</p>\n<p class=\"meta\">reads: " + html(reads.empty() ? "-" : reads) +
+                    "; writes: " + html(writes.empty() ? "-" : writes) + "</p>\n" + shotsHtml(p.shots) + "</div>\n";
+        }
+        if (!tr.lightSteps.empty()) {
+            page += "<div class=\"pass\"><h3>light " + std::to_string(*chosenLight) + ", step by step</h3>\n";
+            for (const auto& [step, shots] : tr.lightSteps) page += "<h4>after " + html(step) + "</h4>\n" + shotsHtml(shots);
+            page += "</div>\n";
+        }
+    }
+    page += "</body></html>\n";
+    return page;
+}
+
+
 } // namespace
 
 int reportCommand(const std::vector<std::string_view>& args) {
@@ -306,84 +394,12 @@ int reportCommand(const std::vector<std::string_view>& args) {
             forwardRegistry = std::move(registry);
             forwardFinal = forwardRegistry.find(kBackBufferName);
         } else if (forwardFinal) {
-            double sumSquares = 0;
-            for (std::uint32_t y = 0; y < height; ++y)
-                for (std::uint32_t x = 0; x < width; ++x) {
-                    bool differs = false;
-                    for (int c = 0; c < 3; ++c) {
-                        const double d = std::abs(double(std::to_integer<int>(back.texel(x, y)[c])) -
-                                                  double(std::to_integer<int>(forwardFinal->texel(x, y)[c])));
-                        tr.maxAbs = std::max(tr.maxAbs, d);
-                        sumSquares += d * d;
-                        differs = differs || d > 0;
-                    }
-                    tr.differing += differs ? 1 : 0;
-                }
-            tr.rmse = std::sqrt(sumSquares / (3.0 * double(width) * double(height)));
+            differenceFromForward(back, forwardFinal, width, height, tr);
         }
         reports.push_back(std::move(tr));
     }
 
-    std::string page = R"(<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>tessera report</title>
-<style>
-body { font-family: sans-serif; margin: 2em; max-width: 1400px; color: #222; }
-h2 { border-top: 2px solid #888; padding-top: 0.6em; }
-.shots { display: flex; flex-wrap: wrap; gap: 12px; }
-figure { margin: 0; max-width: 320px; font-size: 0.8em; }
-figure img { width: 320px; image-rendering: pixelated; border: 1px solid #ccc; }
-table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
-td:first-child, th:first-child { text-align: left; }
-.pass { margin-left: 1em; } .meta { color: #666; font-size: 0.9em; }
-</style>
-<script>
-// Records failed resources and, once loaded, how many images decoded, for tests and readers.
-window.addEventListener('error', function () {
-  var s = document.getElementById('status'); s.setAttribute('data-errors', String(Number(s.getAttribute('data-errors') || 0) + 1));
-}, true);
-window.addEventListener('load', function () {
-  var images = Array.prototype.slice.call(document.images);
-  var ok = images.filter(function (i) { return i.complete && i.naturalWidth > 0; }).length;
-  var s = document.getElementById('status');
-  s.textContent = 'images ' + ok + '/' + images.length + ', errors ' + (s.getAttribute('data-errors') || 0);
-});
-</script></head><body>
-)";
-    page += "<h1>tessera: the techniques step by step</h1>\n<p class=\"meta\">Scene <code>" + html(sceneFile.string()) + "</code>, " +
-            std::to_string(width) + "&times;" + std::to_string(height) + ", " + std::to_string(scene.lights.size()) +
-            " lights, precision exact, faithful options. Sources: docs/sources.md; errata: ERRATA.md. " +
-            "<span id=\"status\">loading</span></p>\n";
-    page += "<h2>Difference from forward</h2>\n<table><tr><th>technique</th><th>max abs (codes)</th><th>RMSE</th><th>differing "
-            "px</th><th>why (ERRATA.md)</th></tr>\n";
-    for (const TechniqueReport& tr : reports) {
-        if (tr.id == "forward") continue;
-        char row[256];
-        std::snprintf(row, sizeof(row), "<tr><td>%s</td><td>%.0f</td><td>%.3f</td><td>%llu (%.2f%%)</td>", tr.id.c_str(), tr.maxAbs,
-                      tr.rmse, (unsigned long long)tr.differing, 100.0 * double(tr.differing) / (double(width) * height));
-        page += row + std::string("<td style=\"text-align:left\">") + html(tr.why) + "</td></tr>\n";
-    }
-    page += "</table>\n";
-    for (const TechniqueReport& tr : reports) {
-        page += "<h2 id=\"" + html(tr.id) + "\">" + html(tr.id) + "</h2>\n<p>" + html(tr.summary) + " <span class=\"meta\">(" +
-                html(tr.source) + ")</span></p>\n";
-        page += shotsHtml({{tr.finalFile, "the back buffer after the last pass", "final image"}});
-        for (const PassReport& p : tr.passes) {
-            char ms[96];
-            std::snprintf(ms, sizeof(ms), "%.2f ms; buffers alive %.2f MiB", p.ms, p.bufferMiB);
-            std::string reads, writes;
-            for (const std::string& r : p.reads) reads += (reads.empty() ? "" : ", ") + r;
-            for (const std::string& w : p.writes) writes += (writes.empty() ? "" : ", ") + w;
-            page += "<div class=\"pass\"><h3>" + html(p.name) + " <span class=\"meta\">" + ms + "</span></h3>\n<p>" +
-                    html(caption(tr.id, p.name)) + "</p>\n<p class=\"meta\">reads: " + html(reads.empty() ? "-" : reads) +
-                    "; writes: " + html(writes.empty() ? "-" : writes) + "</p>\n" + shotsHtml(p.shots) + "</div>\n";
-        }
-        if (!tr.lightSteps.empty()) {
-            page += "<div class=\"pass\"><h3>light " + std::to_string(*chosenLight) + ", step by step</h3>\n";
-            for (const auto& [step, shots] : tr.lightSteps) page += "<h4>after " + html(step) + "</h4>\n" + shotsHtml(shots);
-            page += "</div>\n";
-        }
-    }
-    page += "</body></html>\n";
+    const std::string page = reportPage(reports, sceneFile, scene, width, height, chosenLight);
     writeText(root / "index.html", page);
     std::printf("wrote %s (%zu techniques)\n", (root / "index.html").string().c_str(), reports.size());
     return 0;

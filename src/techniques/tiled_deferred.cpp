@@ -512,29 +512,8 @@ void dispatchTiles(TiledSetup& s, Device& device) {
     device.execute([&] { compute::dispatch(kernel, glm::uvec3(s.tiles.x, s.tiles.y, 1u), desc); });
 }
 
-} // namespace
-
-Frame buildTiledDeferred(const TechniqueContext& ctx) {
-    const std::string file = ctx.errorFile();
-    if (ctx.camera.projection == ProjectionKind::Orthographic)
-        throw inputError(file, "/camera", "tiled-deferred needs a perspective camera (Intel's tile planes and view-z reconstruction)");
-    auto setup = std::make_shared<TiledSetup>();
-    setup->options = parseOptions(ctx.options, file);
-    if (ctx.precision == Precision::Reference) setup->options.floatTargets = true;  // reference keeps the G-buffer unquantized
-    const TiledOptions& opt = setup->options;
-    setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);
-    setup->width = ctx.width;
-    setup->height = ctx.height;
-    setup->tiles = tileCount({ctx.width, ctx.height}, opt.tileSize);
-    setup->projectionLh = projectionLhFromRh(setup->forward->clipFromView);
-    setup->cameraNear = ctx.camera.nearZ;
-    setup->cameraFar = ctx.camera.farZ;
-    const std::size_t tileTotal = std::size_t(setup->tiles.x) * setup->tiles.y;
-    setup->lists.resize(tileTotal);
-    setup->appended.resize(tileTotal);
-    setup->ranges.resize(tileTotal);
-
-    // Lights to view space once per frame (the sample's per-frame light buffer upload).
+// Lights to view space once per frame (the sample's per-frame light buffer upload).
+void lightsToView(const TechniqueContext& ctx, TiledSetup* setup) {
     const std::vector<Light>& lights = ctx.lights();
     const std::vector<ViewLight<float>>& viewLights = setup->forward->lightsExact;
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -558,6 +537,117 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
         setup->cull.push_back(c);
         setup->intelLights.push_back(il);
     }
+}
+
+// The "tiles" pass up to its outputs: the G-buffer, depth and targets bound, the dispatch at the
+// tile size, then the shaded-pixel counts and the overflow note.
+void runTiles(TiledSetup& s, Device* device, DrawStats* stats, const std::string& back, const std::string& backReference,
+              BufferRegistry& reg) {
+    const Surface& depth = reg.get("depth");
+    s.sampleDepth.resize(s.samples);
+    s.sampleViews.resize(s.samples);
+    for (std::uint32_t i = 0; i < s.samples; ++i) {
+        std::vector<float>& d = i == 0 ? s.depth : s.sampleDepth[i];
+        d.resize(std::size_t(s.width) * s.height);
+        for (std::uint32_t y = 0; y < s.height; ++y)
+            for (std::uint32_t x = 0; x < s.width; ++x) d[std::size_t(y) * s.width + x] = depth.loadDepth(x, y, i);
+        s.sampleViews[i] = DepthImageView{d, s.width, s.height};
+    }
+    s.depthView = s.sampleViews[0];
+    if (s.samples > 1) {
+        s.edgeSurface = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeSurfaceTarget)));
+        s.edgeCoverage = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeCoverageTarget)));
+        s.edges = &reg.get(std::string(gbuffer_detail::kEdgesBuffer));
+    }
+    const std::size_t tileCountTotal = s.lists.size();
+    s.shadedPixels.assign(tileCountTotal, 0);
+    s.shadedSamples.assign(tileCountTotal, 0);
+    s.edgePixels.assign(tileCountTotal, 0);
+    s.accumulation = TargetReader(reg.get("accumulation"));
+    s.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+    s.specular = TargetReader(reg.get("gbuffer.specular"));
+    s.normal = TargetReader(reg.get("gbuffer.normal"));
+    if (s.options.positionFromGBuffer) s.position = TargetReader(reg.get("gbuffer.position"));
+    s.back = &reg.get(back);
+    s.reference = s.forward->precision == Precision::Reference ? &reg.get(backReference) : nullptr;
+    s.heat = &reg.get("heatmap");
+    s.lit = s.options.shading == Shading::Intel ? &reg.get("lit") : nullptr;
+    switch (s.options.tileSize) {
+    case 8: dispatchTiles<8>(s, *device); break;
+    case 32: dispatchTiles<32>(s, *device); break;
+    default: dispatchTiles<16>(s, *device); break;
+    }
+    if (stats) {
+        DrawStats counted;
+        for (std::size_t t = 0; t < tileCountTotal; ++t) {
+            counted.computeShadedPixels += s.shadedPixels[t];
+            counted.computeShadedSamples += s.shadedSamples[t];
+            counted.edgePixels += s.edgePixels[t];
+        }
+        if (s.samples > 1) counted.edgeTestedPixels = std::uint64_t(s.width) * s.height;
+        *stats += counted;
+    }
+    if (FrameNotes* notes = s.forward->notes) {
+        std::uint64_t dropped = 0;
+        for (std::size_t t = 0; t < s.lists.size(); ++t)
+            if (s.appended[t] > s.lists[t].size()) dropped += s.appended[t] - s.lists[t].size();
+        notes->add({"light-list-overflow", "tile light-list entries past the tile list's capacity dropped", dropped, 16,
+                    "--option tileListCapacity=unbounded", true});
+    }
+}
+
+// The "tiles" pass's buffers.
+void writeTileBuffers(const TiledSetup& s, BufferRegistry& reg) {
+    // The lists, row-major by tile, the grid (offset, stored count) and the appended counts.
+    std::size_t total = 0;
+    for (const auto& l : s.lists) total += l.size();
+    const std::uint32_t n = std::uint32_t(std::max<std::size_t>(total, 1));
+    Surface& grid = reg.create("tiles.grid", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
+    Surface& counts = reg.create("tiles.lightCount", {s.tiles.x, s.tiles.y, Format::R32_UINT, 1});
+    Surface& ranges = reg.create("tiles.depthRange", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
+    Surface& indices =
+        reg.create("tiles.lightIndices", {std::min(n, kIndicesRow), (n + kIndicesRow - 1) / kIndicesRow, Format::R32_UINT, 1});
+    indices.clearUint(glm::uvec4(0u));
+    std::uint32_t offset = 0;
+    for (std::uint32_t ty = 0; ty < s.tiles.y; ++ty)
+        for (std::uint32_t tx = 0; tx < s.tiles.x; ++tx) {
+            const std::size_t tile = std::size_t(ty) * s.tiles.x + tx;
+            encodeTexelUint(Format::R32G32_UINT, glm::uvec4(offset, std::uint32_t(s.lists[tile].size()), 0u, 0u),
+                            grid.texel(tx, ty));
+            encodeTexelUint(Format::R32_UINT, glm::uvec4(s.appended[tile], 0u, 0u, 0u), counts.texel(tx, ty));
+            encodeTexelUint(Format::R32G32_UINT, glm::uvec4(s.ranges[tile].minBits, s.ranges[tile].maxBits, 0u, 0u),
+                            ranges.texel(tx, ty));
+            for (const std::uint32_t index : s.lists[tile]) {
+                encodeTexelUint(Format::R32_UINT, glm::uvec4(index, 0u, 0u, 0u),
+                                indices.texel(offset % kIndicesRow, offset / kIndicesRow));
+                ++offset;
+            }
+        }
+}
+
+} // namespace
+
+Frame buildTiledDeferred(const TechniqueContext& ctx) {
+    const std::string file = ctx.errorFile();
+    if (ctx.camera.projection == ProjectionKind::Orthographic)
+        throw inputError(file, "/camera", "tiled-deferred needs a perspective camera (Intel's tile planes and view-z reconstruction)");
+    auto setup = std::make_shared<TiledSetup>();
+    setup->options = parseOptions(ctx.options, file);
+    if (ctx.precision == Precision::Reference) setup->options.floatTargets = true;  // reference keeps the G-buffer unquantized
+    const TiledOptions& opt = setup->options;
+    setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);
+    setup->width = ctx.width;
+    setup->height = ctx.height;
+    setup->tiles = tileCount({ctx.width, ctx.height}, opt.tileSize);
+    setup->projectionLh = projectionLhFromRh(setup->forward->clipFromView);
+    setup->cameraNear = ctx.camera.nearZ;
+    setup->cameraFar = ctx.camera.farZ;
+    const std::size_t tileTotal = std::size_t(setup->tiles.x) * setup->tiles.y;
+    setup->lists.resize(tileTotal);
+    setup->appended.resize(tileTotal);
+    setup->ranges.resize(tileTotal);
+
+    lightsToView(ctx, setup.get());
 
     const Format colorFormat = opt.floatTargets ? Format::R32G32B32A32_FLOAT : Format::R8G8B8A8_UNORM;
     const Format depthFormat = opt.floatTargets ? Format::D32_FLOAT_S8X24_UINT : Format::D24_UNORM_S8_UINT;
@@ -619,82 +709,8 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     }
     frame.add({"tiles", tileReads, tileWrites, [setup, device, stats, back, backReference](BufferRegistry& reg) {
                    TiledSetup& s = *setup;
-                   const Surface& depth = reg.get("depth");
-                   s.sampleDepth.resize(s.samples);
-                   s.sampleViews.resize(s.samples);
-                   for (std::uint32_t i = 0; i < s.samples; ++i) {
-                       std::vector<float>& d = i == 0 ? s.depth : s.sampleDepth[i];
-                       d.resize(std::size_t(s.width) * s.height);
-                       for (std::uint32_t y = 0; y < s.height; ++y)
-                           for (std::uint32_t x = 0; x < s.width; ++x) d[std::size_t(y) * s.width + x] = depth.loadDepth(x, y, i);
-                       s.sampleViews[i] = DepthImageView{d, s.width, s.height};
-                   }
-                   s.depthView = s.sampleViews[0];
-                   if (s.samples > 1) {
-                       s.edgeSurface = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeSurfaceTarget)));
-                       s.edgeCoverage = TargetReader(reg.get(std::string(gbuffer_detail::kEdgeCoverageTarget)));
-                       s.edges = &reg.get(std::string(gbuffer_detail::kEdgesBuffer));
-                   }
-                   const std::size_t tileCountTotal = s.lists.size();
-                   s.shadedPixels.assign(tileCountTotal, 0);
-                   s.shadedSamples.assign(tileCountTotal, 0);
-                   s.edgePixels.assign(tileCountTotal, 0);
-                   s.accumulation = TargetReader(reg.get("accumulation"));
-                   s.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
-                   s.specular = TargetReader(reg.get("gbuffer.specular"));
-                   s.normal = TargetReader(reg.get("gbuffer.normal"));
-                   if (s.options.positionFromGBuffer) s.position = TargetReader(reg.get("gbuffer.position"));
-                   s.back = &reg.get(back);
-                   s.reference = s.forward->precision == Precision::Reference ? &reg.get(backReference) : nullptr;
-                   s.heat = &reg.get("heatmap");
-                   s.lit = s.options.shading == Shading::Intel ? &reg.get("lit") : nullptr;
-                   switch (s.options.tileSize) {
-                   case 8: dispatchTiles<8>(s, *device); break;
-                   case 32: dispatchTiles<32>(s, *device); break;
-                   default: dispatchTiles<16>(s, *device); break;
-                   }
-                   if (stats) {
-                       DrawStats counted;
-                       for (std::size_t t = 0; t < tileCountTotal; ++t) {
-                           counted.computeShadedPixels += s.shadedPixels[t];
-                           counted.computeShadedSamples += s.shadedSamples[t];
-                           counted.edgePixels += s.edgePixels[t];
-                       }
-                       if (s.samples > 1) counted.edgeTestedPixels = std::uint64_t(s.width) * s.height;
-                       *stats += counted;
-                   }
-                   if (FrameNotes* notes = s.forward->notes) {
-                       std::uint64_t dropped = 0;
-                       for (std::size_t t = 0; t < s.lists.size(); ++t)
-                           if (s.appended[t] > s.lists[t].size()) dropped += s.appended[t] - s.lists[t].size();
-                       notes->add({"light-list-overflow", "tile light-list entries past the tile list's capacity dropped", dropped, 16,
-                                   "--option tileListCapacity=unbounded", true});
-                   }
-                   // The lists, row-major by tile, the grid (offset, stored count) and the appended counts.
-                   std::size_t total = 0;
-                   for (const auto& l : s.lists) total += l.size();
-                   const std::uint32_t n = std::uint32_t(std::max<std::size_t>(total, 1));
-                   Surface& grid = reg.create("tiles.grid", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
-                   Surface& counts = reg.create("tiles.lightCount", {s.tiles.x, s.tiles.y, Format::R32_UINT, 1});
-                   Surface& ranges = reg.create("tiles.depthRange", {s.tiles.x, s.tiles.y, Format::R32G32_UINT, 1});
-                   Surface& indices =
-                       reg.create("tiles.lightIndices", {std::min(n, kIndicesRow), (n + kIndicesRow - 1) / kIndicesRow, Format::R32_UINT, 1});
-                   indices.clearUint(glm::uvec4(0u));
-                   std::uint32_t offset = 0;
-                   for (std::uint32_t ty = 0; ty < s.tiles.y; ++ty)
-                       for (std::uint32_t tx = 0; tx < s.tiles.x; ++tx) {
-                           const std::size_t tile = std::size_t(ty) * s.tiles.x + tx;
-                           encodeTexelUint(Format::R32G32_UINT, glm::uvec4(offset, std::uint32_t(s.lists[tile].size()), 0u, 0u),
-                                           grid.texel(tx, ty));
-                           encodeTexelUint(Format::R32_UINT, glm::uvec4(s.appended[tile], 0u, 0u, 0u), counts.texel(tx, ty));
-                           encodeTexelUint(Format::R32G32_UINT, glm::uvec4(s.ranges[tile].minBits, s.ranges[tile].maxBits, 0u, 0u),
-                                           ranges.texel(tx, ty));
-                           for (const std::uint32_t index : s.lists[tile]) {
-                               encodeTexelUint(Format::R32_UINT, glm::uvec4(index, 0u, 0u, 0u),
-                                               indices.texel(offset % kIndicesRow, offset / kIndicesRow));
-                               ++offset;
-                           }
-                       }
+                   runTiles(s, device, stats, back, backReference, reg);
+                   writeTileBuffers(s, reg);
                }});
 
     if (opt.shading == Shading::Intel) {
