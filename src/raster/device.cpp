@@ -34,7 +34,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     return *this;
 }
 
-Device::Device(DeviceConfig config) : mConfig(config) {
+Device::Device(DeviceConfig config) : mConfig(config), mScratch(std::make_unique<detail::DrawScratch>()) {
     if (config.tileSize < 8 || config.tileSize > 1024 || config.tileSize % 2 != 0)
         throw std::invalid_argument("tile size " + std::to_string(config.tileSize) + " px must be even and in 8..1024");
     if (config.threads > 256) throw std::invalid_argument("thread count " + std::to_string(config.threads) + " exceeds 256");

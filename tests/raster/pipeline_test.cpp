@@ -1,13 +1,18 @@
 // Pipeline behaviour at the pixel level: MSAA sample positions, perspective-correct
 // interpolation, viewport depth mapping and depth clamp, early depth/stencil with discard,
-// occlusion queries, scissor, SV_Depth output, facing, the guard band, and bad input.
+// occlusion queries, scissor, SV_Depth output, facing, the guard band, bad input, and a device's
+// reuse of draw storage.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include <tessera/raster/sample_pattern.h>
 
+#include "support/surface_compare.h"
 #include "support/test_draw.h"
 
 using namespace tessera;
@@ -388,4 +393,58 @@ TEST_CASE("x/y clipping beyond the guard band keeps edges where the unclipped tr
     }
     CHECK(checked > 1000000);
     CHECK(wrong == 0);
+}
+
+TEST_CASE("a device reuses a draw's storage: each draw gives the bytes and counters it gives on a fresh device") {
+    // The device keeps the set-up chunks, tile counters and vertex outputs of its largest draw
+    // (detail::DrawScratch). A large indexed draw (30,000 triangles: 15 set-up chunks of 2048)
+    // followed by small indexed and non-indexed ones must leave nothing of itself in them: a
+    // stale chunk binned again would add its triangles to the additive count below.
+    constexpr std::uint32_t kSize = 64;  // px
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> pos(-8.0f, float(kSize) + 8.0f);
+    auto soup = [&](std::size_t vertexCount, std::size_t triangleCount, std::vector<ColorVertex>& v, std::vector<std::uint32_t>& idx) {
+        v.clear();
+        idx.clear();
+        for (std::size_t i = 0; i < vertexCount; ++i)
+            v.push_back({windowToClip(pos(rng), pos(rng), float(kSize), float(kSize)), glm::vec4(1.0f)});
+        std::uniform_int_distribution<std::uint32_t> pick(0, std::uint32_t(vertexCount - 1));
+        for (std::size_t i = 0; i < triangleCount * 3; ++i) idx.push_back(pick(rng));
+    };
+    std::vector<ColorVertex> bigV, smallV, listV;
+    std::vector<std::uint32_t> bigI, smallI, none;
+    soup(20000, 30000, bigV, bigI);
+    soup(40, 100, smallV, smallI);
+    std::vector<std::uint32_t> unusedI;
+    soup(90, 0, listV, unusedI);  // 30 triangles, three vertices each
+
+    auto draw = [&](Device& dev, const std::vector<ColorVertex>& v, const std::vector<std::uint32_t>& idx, Surface& target) {
+        target.clearColor(glm::vec4(0.0f));
+        RenderTargets rt;
+        rt.colors[0] = &target;
+        return dev.draw(countingState(target), rt, std::span<const ColorVertex>(v), std::span<const std::uint32_t>(idx),
+                        PassThroughVS{}, ColorPS{});
+    };
+    const SurfaceDesc desc{kSize, kSize, Format::R32_FLOAT};
+    Surface big(desc), smallReused(desc), listReused(desc), smallFresh(desc), listFresh(desc);
+    Device reused(DeviceConfig{16, 2});
+    const DrawStats bigStats = draw(reused, bigV, bigI, big);
+    REQUIRE(bigStats.setup.trianglesIn == 30000);
+    const DrawStats smallAfter = draw(reused, smallV, smallI, smallReused);
+    const DrawStats listAfter = draw(reused, listV, none, listReused);
+    Device freshA(DeviceConfig{16, 2}), freshB(DeviceConfig{16, 2});
+    const DrawStats smallAlone = draw(freshA, smallV, smallI, smallFresh);
+    const DrawStats listAlone = draw(freshB, listV, none, listFresh);
+    CHECK(smallAlone.setup.trianglesOut > 0);
+    CHECK(listAlone.setup.trianglesOut > 0);
+    CHECK(sameBytes(smallReused, smallFresh));
+    CHECK(sameBytes(listReused, listFresh));
+    for (const auto& [after, alone] : {std::pair{smallAfter, smallAlone}, std::pair{listAfter, listAlone}}) {
+        CHECK(after.setup.trianglesIn == alone.setup.trianglesIn);
+        CHECK(after.setup.trianglesOut == alone.setup.trianglesOut);
+        CHECK(after.binnedTileTriangles == alone.binnedTileTriangles);
+        CHECK(after.quads == alone.quads);
+        CHECK(after.psInvocations == alone.psInvocations);
+        CHECK(after.samplesPassed == alone.samplesPassed);
+    }
 }

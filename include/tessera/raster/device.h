@@ -70,6 +70,10 @@ DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, s
 // The DrawStats::paths key of a draw.
 std::string drawPathName(bool hasPixelShader, DepthPath depth, std::uint32_t sampleCount, bool blends, Precision precision);
 
+namespace detail {
+struct DrawScratch;
+}
+
 class Device {
 public:
     explicit Device(DeviceConfig config = {});
@@ -107,6 +111,7 @@ private:
     PixelWatch* mWatch = nullptr;
     ShadeCounts* mShadeCounts = nullptr;
     std::uint64_t mDrawCount = 0;  // draws issued, for PixelDrawEvent::draw
+    std::unique_ptr<detail::DrawScratch> mScratch;  // a draw's working storage, reused (detail/draw_impl.h)
     std::unique_ptr<tbb::task_arena> mArena;
     // More threads than cores (e.g. the 7-thread determinism runs on 2 cores) need TBB's
     // process-wide worker limit raised while this device lives.
