@@ -5,15 +5,10 @@
 
 using namespace tessera;
 
-namespace {
-
-void checkSmall(const std::string& scene) {
-    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique("deferred-classic")->textures),
-                                        "deferred-classic");
+TEST_CASE("golden: default scene, deferred-classic, 320x180") {
+    test::checkSmallGolden("default", "deferred-classic");
 }
 
-} // namespace
-
-TEST_CASE("golden: default scene, deferred-classic, 320x180") { checkSmall("default"); }
-
-TEST_CASE("golden: Sponza with 64 large lights, deferred-classic, 320x180") { checkSmall("sponza-large-lights"); }
+TEST_CASE("golden: Sponza with 64 large lights, deferred-classic, 320x180") {
+    test::checkSmallGolden("sponza-large-lights", "deferred-classic");
+}

@@ -7,23 +7,33 @@ using namespace tessera;
 
 namespace {
 
-const nlohmann::json kCorrected{{"specPowerUnpack", "once"}, {"volumeCull", "front"}, {"spotVolume", "demo"},
-                                {"cpPos", "pixel"}, {"background", "stencil"}};
+const nlohmann::json kCorrected{{"specPowerUnpack", "once"},
+                                {"volumeCull", "front"},
+                                {"spotVolume", "demo"},
+                                {"cpPos", "pixel"},
+                                {"background", "stencil"}};
 
-void checkSmall(const std::string& scene, bool corrected) {
+void checkCookbook(const std::string& scene, bool corrected) {
     const test::BundledScene s(scene, 320, 180, findTechnique("deferred-cookbook")->textures);
     const nlohmann::json options = corrected ? kCorrected : nlohmann::json::object();
     BufferRegistry one = s.render("deferred-cookbook", 1, &options);
     BufferRegistry two = s.render("deferred-cookbook", 2, &options);
     CHECK(test::sameBytes(one.get(kBackBufferName), two.get(kBackBufferName)));
-    test::checkGolden(one.get(kBackBufferName), s.name(), corrected ? "deferred-cookbook-corrected" : "deferred-cookbook");
+    test::checkGolden(one.get(kBackBufferName), s.name(),
+                      corrected ? "deferred-cookbook-corrected" : "deferred-cookbook");
 }
 
-} // namespace
+}  // namespace
 
-TEST_CASE("golden: default scene, deferred-cookbook, 320x180") { checkSmall("default", false); }
-TEST_CASE("golden: default scene, deferred-cookbook with every correction, 320x180") { checkSmall("default", true); }
-TEST_CASE("golden: Sponza with 64 large lights, deferred-cookbook, 320x180") { checkSmall("sponza-large-lights", false); }
+TEST_CASE("golden: default scene, deferred-cookbook, 320x180") {
+    checkCookbook("default", false);
+}
+TEST_CASE("golden: default scene, deferred-cookbook with every correction, 320x180") {
+    checkCookbook("default", true);
+}
+TEST_CASE("golden: Sponza with 64 large lights, deferred-cookbook, 320x180") {
+    checkCookbook("sponza-large-lights", false);
+}
 TEST_CASE("golden: Sponza with 64 large lights, deferred-cookbook with every correction, 320x180") {
-    checkSmall("sponza-large-lights", true);
+    checkCookbook("sponza-large-lights", true);
 }

@@ -5,16 +5,14 @@
 
 using namespace tessera;
 
-namespace {
-
-void checkSmall(const std::string& scene, const std::string& technique) {
-    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique(technique)->textures), technique);
+TEST_CASE("golden: default scene, deferred, 320x180") {
+    test::checkSmallGolden("default", "deferred");
 }
 
-} // namespace
+TEST_CASE("golden: Sponza with 64 large lights, deferred, 320x180") {
+    test::checkSmallGolden("sponza-large-lights", "deferred");
+}
 
-TEST_CASE("golden: default scene, deferred, 320x180") { checkSmall("default", "deferred"); }
-
-TEST_CASE("golden: Sponza with 64 large lights, deferred, 320x180") { checkSmall("sponza-large-lights", "deferred"); }
-
-TEST_CASE("golden: default scene, deferred-killzone, 320x180") { checkSmall("default", "deferred-killzone"); }
+TEST_CASE("golden: default scene, deferred-killzone, 320x180") {
+    test::checkSmallGolden("default", "deferred-killzone");
+}

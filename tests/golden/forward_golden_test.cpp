@@ -6,17 +6,13 @@
 
 using namespace tessera;
 
-namespace {
-
-void checkSmall(const std::string& scene) {
-    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique("forward")->textures), "forward");
+TEST_CASE("golden: default scene, forward, 320x180") {
+    test::checkSmallGolden("default", "forward");
 }
 
-} // namespace
-
-TEST_CASE("golden: default scene, forward, 320x180") { checkSmall("default"); }
-
-TEST_CASE("golden: Sponza with 64 large lights, forward, 320x180") { checkSmall("sponza-large-lights"); }
+TEST_CASE("golden: Sponza with 64 large lights, forward, 320x180") {
+    test::checkSmallGolden("sponza-large-lights", "forward");
+}
 
 TEST_CASE("golden: Sponza with 64 large lights, forward, 1280x720") {
     const test::BundledScene sponza("sponza-large-lights", 1280, 720, findTechnique("forward")->textures);

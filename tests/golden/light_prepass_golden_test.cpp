@@ -4,15 +4,10 @@
 
 using namespace tessera;
 
-namespace {
-
-void checkSmall(const std::string& scene) {
-    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique("light-prepass")->textures),
-                                        "light-prepass");
+TEST_CASE("golden: default scene, light-prepass, 320x180") {
+    test::checkSmallGolden("default", "light-prepass");
 }
 
-} // namespace
-
-TEST_CASE("golden: default scene, light-prepass, 320x180") { checkSmall("default"); }
-
-TEST_CASE("golden: Sponza with 64 large lights, light-prepass, 320x180") { checkSmall("sponza-large-lights"); }
+TEST_CASE("golden: Sponza with 64 large lights, light-prepass, 320x180") {
+    test::checkSmallGolden("sponza-large-lights", "light-prepass");
+}

@@ -5,15 +5,10 @@
 
 using namespace tessera;
 
-namespace {
-
-void checkSmall(const std::string& scene) {
-    test::checkGoldenAtOneAndTwoThreads(test::BundledScene(scene, 320, 180, findTechnique("tiled-deferred")->textures),
-                                        "tiled-deferred");
+TEST_CASE("golden: default scene, tiled-deferred, 320x180") {
+    test::checkSmallGolden("default", "tiled-deferred");
 }
 
-} // namespace
-
-TEST_CASE("golden: default scene, tiled-deferred, 320x180") { checkSmall("default"); }
-
-TEST_CASE("golden: Sponza with 64 large lights, tiled-deferred, 320x180") { checkSmall("sponza-large-lights"); }
+TEST_CASE("golden: Sponza with 64 large lights, tiled-deferred, 320x180") {
+    test::checkSmallGolden("sponza-large-lights", "tiled-deferred");
+}

@@ -149,4 +149,12 @@ inline void checkGoldenAtOneAndTwoThreads(const BundledScene& scene, const std::
     checkGolden(one.get(kBackBufferName), scene.name(), goldenName.empty() ? technique : goldenName);
 }
 
+// The per-technique golden of a bundled scene at 320x180 with the technique's default options,
+// rendered at 1 and 2 threads (golden/<scene>/<technique>.png).
+inline void checkSmallGolden(const std::string& scene, const std::string& technique) {
+    const TechniqueInfo* info = findTechnique(technique);
+    REQUIRE(info != nullptr);
+    checkGoldenAtOneAndTwoThreads(BundledScene(scene, 320, 180, info->textures), technique);
+}
+
 } // namespace tessera::test
