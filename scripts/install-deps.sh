@@ -14,6 +14,9 @@ fi
 packages=(
   cmake ninja-build g++ pkg-config
   libglm-dev libopenimageio-dev libtbb-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+  # OpenImageIO's CMake package imports its tools (OpenImageIO::iconvert, idiff, ...) and fails
+  # find_package(OpenImageIO CONFIG) when their executables are absent: needed to configure at all
+  openimageio-tools
   # portable SIMD with runtime dispatch (the vectorised pixel pipeline)
   libhwy-dev
   # ray casting for forward-plus-amd's many-light shadows (GPU Pro 4 ch. 5 §5.6.2): Intel Embree 3
@@ -21,8 +24,8 @@ packages=(
 )
 if [ "$mode" = all ]; then
   packages+=(
-    # oiiotool (scenes/sponza/README.md: the texture shrink), tests and benchmarks
-    openimageio-tools doctest-dev libbenchmark-dev
+    # tests and benchmarks
+    doctest-dev libbenchmark-dev
     # glTF loader tests: malformed glTF cases in /usr/share/assimp/models/glTF2/
     assimp-testmodels
     # bench/plot.py: the speed/accuracy charts of bench/RESULTS.md (run it with /usr/bin/python3)
