@@ -186,7 +186,7 @@ void checkFrameInputs(const TechniqueContext& context, const std::string& sceneF
 
 
 std::vector<std::string> withReferenceBuffer(std::vector<std::string> names, Precision precision) {
-    if (precision == Precision::Reference) names.insert(names.begin() + (names.empty() ? 0 : 1), std::string(kReferenceBufferName));
+    if (precision == Precision::Reference) names.emplace(names.begin() + (names.empty() ? 0 : 1), kReferenceBufferName);
     return names;
 }
 
@@ -196,12 +196,17 @@ void storeAsUnorm(const Surface& from, Surface& to) {
             for (std::uint32_t s = 0; s < to.sampleCount(); ++s) to.store(x, y, s, convert::clampUnorm(from.load(x, y, s)));
 }
 
+// (Appended in place: GCC 12 at -O2 reports a false -Warray-bounds on string + literal here.)
 std::string backBufferTarget(std::uint32_t sampleCount) {
-    return sampleCount > 1 ? std::string(kBackBufferName) + ".msaa" : std::string(kBackBufferName);
+    std::string name(kBackBufferName);
+    if (sampleCount > 1) name.append(".msaa");
+    return name;
 }
 
 std::string referenceBufferTarget(std::uint32_t sampleCount) {
-    return sampleCount > 1 ? std::string(kReferenceBufferName) + ".msaa" : std::string(kReferenceBufferName);
+    std::string name(kReferenceBufferName);
+    if (sampleCount > 1) name.append(".msaa");
+    return name;
 }
 
 std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, std::uint32_t sampleCount) {
