@@ -251,8 +251,7 @@ int main(int argc, char** argv) {
                 row(0, "-", 0, "-", "not implemented | - | - | - | - | -");
                 continue;
             }
-            const bool hasTileSize =
-                std::find(info->optionKeys.begin(), info->optionKeys.end(), std::string_view("tileSize")) != info->optionKeys.end();
+            const bool hasTileSize = findOption(info->id, "tileSize") != nullptr;
             const std::vector<std::uint32_t> tiles = hasTileSize ? tileSizes : std::vector<std::uint32_t>{0};
             std::unique_ptr<SceneResources>& resources = resourcesByPolicy[info->textures];
             if (!resources) resources = std::make_unique<SceneResources>(scene, std::function<void(std::size_t, std::size_t)>{}, info->textures);

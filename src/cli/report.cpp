@@ -60,72 +60,6 @@ std::string html(std::string_view text) {
     return out;
 }
 
-// What each pass does and where the source describes it (docs/sources.md keys).
-std::string caption(std::string_view technique, std::string_view pass) {
-    static const std::map<std::string, std::string, std::less<>> kCommon{
-        {"clear", "Clears the targets the frame writes (the demo's clear colour, depth 1, stencil 0)."},
-        {"transparent", "Transparent draws, alpha-blended after the opaque ones and forward-shaded with every light, in "
-                        "scene order (3dgep article §2, §3; ERRATA #8: the article says sorted, the demo does not sort)."},
-    };
-    const std::string key = std::string(technique) + "/" + std::string(pass);
-    static const std::map<std::string, std::string, std::less<>> kPasses{
-        {"forward/opaque", "Every opaque draw shaded with every light in its pixel shader (3dgep article §2 Forward "
-                           "Rendering; demo ForwardRendering.hlsl)."},
-        {"deferred/gbuffer", "The G-buffer pass: diffuse, specular with the packed specular power, view-space normal and "
-                             "depth, no lighting (3dgep article §3 Deferred Shading; demo DeferredRendering.hlsl)."},
-        {"deferred/copy depth", "Depth copied so that the light pass can read it while the stencil is written (3dgep demo "
-                                "main.cpp)."},
-        {"deferred/lights", "Per light: the unmark pass clears the stencil where geometry lies in front of the light "
-                            "volume's front faces, the shade pass lights the pixels whose stencil stayed 1 behind its back "
-                            "faces (3dgep article §3; ERRATA #3, #4). The steps of one light are below."},
-        {"deferred-killzone/gbuffer", "The G-buffer pass, as deferred."},
-        {"deferred-killzone/copy depth", "Depth copied for the light pass, as deferred."},
-        {"deferred-killzone/lights", "Per light: Killzone 2's stencil marking and an occlusion query decide whether the "
-                                     "shade draw runs (3dgep article §3; ERRATA #6: the eye inside a volume loses it)."},
-        {"forward-plus/depth-prepass", "Depth pre-pass: the opaque geometry's depth only, for the tiles' depth ranges "
-                                       "(3dgep article §4 Forward+)."},
-        {"forward-plus/frustums", "One frustum per 16x16 px tile, built once from the inverse projection (3dgep article "
-                                  "§4; demo ForwardPlusRendering.hlsl)."},
-        {"forward-plus/light-culling", "The culling compute shader: each tile's depth range, then sphere and cone tests "
-                                       "against its frustum, appending to the light grid and index list (3dgep article §4; "
-                                       "ERRATA #10, #14, #15)."},
-        {"forward-plus/heatmap", "Lights per tile as the demo's debug texture."},
-        {"forward-plus/opaque", "Shading reads only the tile's light list (3dgep article §4)."},
-        {"forward-plus-amd/depth-prepass", "Depth pre-pass (GPU Pro 4 ch. 5 §5.2)."},
-        {"forward-plus-amd/light-culling", "Gather-based culling over 8x8 px tiles with the 2.5D depth mask (GPU Pro 4 ch. 5 "
-                                           "§5.3.1, §5.6.1; ForwardPlus11 CullLightsCS)."},
-        {"forward-plus-amd/opaque", "Final shading with the tile's lists and AMD's falloff (GPU Pro 4 ch. 5 §5.3.2; "
-                                    "ForwardPlus11 RenderScenePS; ERRATA #18)."},
-        {"tiled-deferred/gbuffer", "The G-buffer (Intel 2010 sample GBuffer.hlsl)."},
-        {"tiled-deferred/tiles", "One compute dispatch: per tile the depth range, side planes from the projection, the "
-                                 "light list and the shading of the tile's pixels (Intel 2010 sample ComputeShaderTile.hlsl; "
-                                 "ERRATA #12, #16)."},
-        {"tiled-deferred/present", "The lit result converted to the back buffer."},
-        {"deferred-cookbook/gbuffer", "PackGBuffer: base colour and specular intensity (RGBA8), the world normal as n * 0.5 "
-                                      "+ 0.5 (R11G11B10_FLOAT), the specular power packed over [0.1, 250.1] (RGBA8) "
-                                      "and depth (Cookbook ch. 2, recipe GBuffer generation)."},
-        {"deferred-cookbook/lights", "The directional light and the hemispheric ambient as a full-screen quad, then each point, "
-                                     "spot and capsule light as its tessellated volume, additive; each pixel unpacks the "
-                                     "G-buffer and rebuilds its world position from linear depth (Cookbook ch. 2, recipes "
-                                     "GBuffer unpacking, Directional/Point/Capsule/Spot light; ERRATA #22-#26)."},
-        {"deferred-cookbook/present", "The float accumulation converted to the back buffer (precision reference)."},
-        {"light-prepass/gbuffer", "Two R32G32B32A32_FLOAT targets: world normal with the specular power, world position, "
-                                  "32 bytes a pixel (PR&C D3D11 ch. 11 §11.3, Listing 11.4)."},
-        {"light-prepass/lights", "Each light adds N.L x colour x attenuation and a monochrome specular to the light buffer "
-                                 "(PR&C D3D11 ch. 11 §11.3, Listing 11.5)."},
-        {"light-prepass/final", "The opaque geometry drawn a second time, LESS_EQUAL against its own depth: light buffer "
-                                "x diffuse texel + specular x specular albedo (Listing 11.6)."},
-        {"deferred-classic/gbuffer", "Four R32G32B32A32_FLOAT targets: world normal, diffuse albedo, specular albedo and "
-                                     "power, world position, 64 bytes a pixel (PR&C D3D11 ch. 11 §11.2, Listing 11.1)."},
-        {"deferred-classic/lights", "One additive full-screen pass per light reading the G-buffer at the pixel (PR&C D3D11 "
-                                    "ch. 11 §11.2, Listing 11.3; ERRATA #27); scissor rectangles and light volumes "
-                                    "(§11.4.2) are options that shade the same pixels for less work."},
-    };
-    if (const auto it = kPasses.find(key); it != kPasses.end()) return it->second;
-    if (const auto it = kCommon.find(pass); it != kCommon.end()) return it->second;
-    return "";
-}
-
 // Why a technique's image differs from forward's, from what the run itself says: what it counted
 // as skipped or clamped (its FrameNotes, with their ERRATA.md rows), then every option of the
 // catalogue that corrects an erratum and is left at its faithful value in this run (`options`:
@@ -160,6 +94,7 @@ struct PassReport {
 };
 struct TechniqueReport {
     std::string id, source, summary;
+    bool baseline = false;  // the image the others are compared against (kComparisonBaseline)
     std::string why;  // differenceNote of the run
     std::vector<PassReport> passes;
     std::vector<std::pair<std::string, std::vector<Shot>>> lightSteps;
@@ -262,7 +197,7 @@ window.addEventListener('load', function () {
     page += "<h2>Difference from forward</h2>\n<table><tr><th>technique</th><th>max abs (codes)</th><th>RMSE</th><th>differing "
             "px</th><th>why (ERRATA.md)</th></tr>\n";
     for (const TechniqueReport& tr : reports) {
-        if (tr.id == "forward") continue;
+        if (tr.baseline) continue;
         char row[256];
         std::snprintf(row, sizeof(row), "<tr><td>%s</td><td>%.0f</td><td>%.3f</td><td>%llu (%.2f%%)</td>", tr.id.c_str(), tr.maxAbs,
                       tr.rmse, (unsigned long long)tr.differing, 100.0 * double(tr.differing) / (double(width) * height));
@@ -280,7 +215,7 @@ window.addEventListener('load', function () {
             for (const std::string& r : p.reads) reads += (reads.empty() ? "" : ", ") + r;
             for (const std::string& w : p.writes) writes += (writes.empty() ? "" : ", ") + w;
             page += "<div class=\"pass\"><h3>" + html(p.name) + " <span class=\"meta\">" + ms + "</span></h3>\n<p>" +
-                    html(caption(tr.id, p.name)) + "</p>\n<p class=\"meta\">reads: " + html(reads.empty() ? "-" : reads) +
+                    html(std::string(passCaption(*findTechnique(tr.id), p.name))) + "</p>\n<p class=\"meta\">reads: " + html(reads.empty() ? "-" : reads) +
                     "; writes: " + html(writes.empty() ? "-" : writes) + "</p>\n" + shotsHtml(p.shots) + "</div>\n";
         }
         if (!tr.lightSteps.empty()) {
@@ -345,10 +280,18 @@ int reportCommand(const std::vector<std::string_view>& args) {
     std::vector<TechniqueReport> reports;
     const Surface* forwardFinal = nullptr;
     BufferRegistry forwardRegistry;
-    for (const TechniqueInfo& info : techniques()) {
-        if (!info.build || info.id == "preview") continue;
+    // The baseline first, so that every other technique has its image to be compared against;
+    // inspection views (no light model) are left out.
+    std::vector<const TechniqueInfo*> order;
+    for (const bool baseline : {true, false})
+        for (const TechniqueInfo& info : techniques())
+            if (info.build && !(info.features & kInspectionView) && ((info.features & kComparisonBaseline) != 0) == baseline)
+                order.push_back(&info);
+    for (const TechniqueInfo* infoPtr : order) {
+        const TechniqueInfo& info = *infoPtr;
         TechniqueReport tr;
         tr.id = std::string(info.id);
+        tr.baseline = (info.features & kComparisonBaseline) != 0;
         tr.source = std::string(info.source);
         tr.summary = std::string(info.summary);
         std::fprintf(stderr, "tessera report: %s\n", tr.id.c_str());
@@ -390,7 +333,7 @@ int reportCommand(const std::vector<std::string_view>& args) {
         tr.finalFile = tr.id + "/final.png";
         const Surface& back = registry.get(kBackBufferName);
         writeSurface(withOpaqueAlpha(back), root / tr.finalFile);
-        if (tr.id == "forward") {
+        if (tr.baseline && !forwardFinal) {
             forwardRegistry = std::move(registry);
             forwardFinal = forwardRegistry.find(kBackBufferName);
         } else if (forwardFinal) {

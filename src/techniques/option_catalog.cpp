@@ -245,16 +245,10 @@ bool listed(const OptionInfo& option, std::string_view text) {
 
 } // namespace
 
-std::span<const OptionInfo> techniqueOptions(std::string_view id) {
+std::span<const OptionInfo> builtinOptionCatalog(std::string_view id) {
     for (const TechniqueOptions& t : kCatalog)
         if (t.id == id) return t.options;
     return {};
-}
-
-const OptionInfo* findOption(std::string_view id, std::string_view key) {
-    for (const OptionInfo& o : techniqueOptions(id))
-        if (o.key == key) return &o;
-    return nullptr;
 }
 
 std::string optionValuesText(const OptionInfo& option) {

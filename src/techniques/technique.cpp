@@ -1,6 +1,6 @@
-// The technique registry: ids, sources, and the builders of those implemented so far. The
-// planned rows are listed so that `tessera list` shows the whole roadmap and a scene file
-// naming one gets a clear "not implemented yet" instead of "unknown".
+// The technique registry: the built-in techniques (each declares its pass captions in its own
+// header and its options in the catalogue) and any a program or test registers; the command line,
+// the report and the tests ask it, and never compare technique ids.
 #include <tessera/techniques/technique.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include <tessera/buffers/conversion.h>
 #include <tessera/errors/input_error.h>
@@ -24,50 +25,111 @@
 namespace tessera {
 namespace {
 
-constexpr std::array<std::string_view, 0> kNoOptions{};
+// The built-in rows; each technique's options come from the catalogue (option_catalog.cpp) and its
+// pass captions from its own header.
+std::vector<TechniqueInfo> builtinTechniques() {
+    std::vector<TechniqueInfo> rows{
+        {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera",
+         &buildPreview, {}, kPreviewPassCaptions, TexturePolicy::Gltf, true, kOwnHeadLight | kInspectionView, 0},
+        {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (van Oosten 2015)",
+         &buildForward, {}, kForwardPassCaptions, TexturePolicy::AllLinear, true, kComparisonBaseline, 0},
+        {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward",
+         "3dgep (van Oosten 2015)", &buildDeferred, {}, kDeferredPassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
+        {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (van Oosten 2015)",
+         &buildDeferredKillzone, {}, kKillzonePassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
+        {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid",
+         "3dgep (van Oosten 2015)", &buildForwardPlus, {}, kForwardPlusPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
+        {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
+         "GPU Pro 4 ch. 5 + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, {}, kForwardPlusAmdPassCaptions,
+         TexturePolicy::AllLinear, true, kShadowRaysAndVpls, 8},
+        {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel 2010 sample (Lauritzen)",
+         &buildTiledDeferred, {}, kTiledDeferredPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
+        {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
+         "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, {}, kDeferredCookbookPassCaptions,
+         TexturePolicy::AllLinear, true, kShadesCapsuleLights, 0},
+        {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
+         "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, {}, kDeferredClassicPassCaptions,
+         TexturePolicy::AllLinear, true, kHonoursLightGroups, 0},
+        {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
+         "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, {}, kLightPrePassPassCaptions,
+         TexturePolicy::AllLinear, true, kHonoursLightGroups, 0},
+    };
+    for (TechniqueInfo& row : rows) row.options = builtinOptionCatalog(row.id);
+    return rows;
+}
 
-const std::array<TechniqueInfo, 10> kTechniques{{
-    {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera", &buildPreview,
-     kNoOptions, TexturePolicy::Gltf, true, kOwnHeadLight, 0},
-    {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (van Oosten 2015)",
-     &buildForward, kForwardOptionKeys, TexturePolicy::AllLinear, true, 0, 0},
-    {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward",
-     "3dgep (van Oosten 2015)", &buildDeferred, kDeferredOptionKeys, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
-    {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (van Oosten 2015)",
-     &buildDeferredKillzone, kKillzoneOptionKeys, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
-    {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid",
-     "3dgep (van Oosten 2015)", &buildForwardPlus, kForwardPlusOptionKeys, TexturePolicy::AllLinear, true, 0, 16},
-    {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
-     "GPU Pro 4 ch. 5 + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, kForwardPlusAmdOptionKeys,
-     TexturePolicy::AllLinear, true, kShadowRaysAndVpls, 8},
-    {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel 2010 sample (Lauritzen)",
-     &buildTiledDeferred, kTiledDeferredOptionKeys, TexturePolicy::AllLinear, true, 0, 16},
-    {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
-     "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, kDeferredCookbookOptionKeys,
-     TexturePolicy::AllLinear, true, kShadesCapsuleLights, 0},
-    {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
-     "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptionKeys, TexturePolicy::AllLinear,
-     true, kHonoursLightGroups, 0},
-    {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
-     "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kLightPrePassOptionKeys,
-     TexturePolicy::AllLinear, true, kHonoursLightGroups, 0},
+// Room for this many techniques, reserved once, so that a registration never moves the rows that
+// findTechnique's pointers and techniques()'s spans point into.
+constexpr std::size_t kMaxTechniques = 64;
+
+std::vector<TechniqueInfo>& registry() {
+    static std::vector<TechniqueInfo> rows = [] {
+        std::vector<TechniqueInfo> r;
+        r.reserve(kMaxTechniques);
+        for (const TechniqueInfo& t : builtinTechniques()) r.push_back(t);
+        return r;
+    }();
+    return rows;
+}
+
+constexpr std::array<PassCaption, 4> kCommonPasses{{
+    {"clear", "Clears the targets the frame writes (the demo's clear colour, depth 1, stencil 0)."},
+    {"transparent", "Transparent draws, alpha-blended after the opaque ones and forward-shaded with every light, in "
+                    "scene order (3dgep article §2, §3; ERRATA #8: the article says sorted, the demo does not sort)."},
+    {"edges", "MSAA: the edge detector (option msaaEdges) sets stencil bit 0x80 on pixels whose samples differ, so that "
+              "the light passes shade those per sample and every other pixel once (Intel 2010 sample's stencil mark; "
+              "PR&C D3D11 ch. 11 §11.5)."},
+    {"resolve", "MSAA: each pixel's samples averaged into the back buffer (ResolveSubresource, in the format's linear "
+                "values)."},
 }};
 
 } // namespace
 
-std::span<const TechniqueInfo> techniques() { return kTechniques; }
+const std::span<const PassCaption> kCommonPassCaptions = kCommonPasses;
+
+std::span<const TechniqueInfo> techniques() { return registry(); }
+
+void registerTechnique(const TechniqueInfo& info) {
+    if (info.id.empty()) throw std::invalid_argument("registerTechnique: empty technique id");
+    if (!info.build) throw std::invalid_argument("registerTechnique: technique '" + std::string(info.id) + "' has no build function");
+    if (findTechnique(info.id))
+        throw std::invalid_argument("registerTechnique: technique '" + std::string(info.id) + "' is already registered");
+    if (registry().size() == kMaxTechniques)
+        throw std::invalid_argument("registerTechnique: the registry holds its maximum of " + std::to_string(kMaxTechniques) +
+                                    " techniques");
+    registry().push_back(info);
+}
 
 const TechniqueInfo* findTechnique(std::string_view id) {
-    for (const TechniqueInfo& t : kTechniques)
+    for (const TechniqueInfo& t : registry())
         if (t.id == id) return &t;
     return nullptr;
+}
+
+std::span<const OptionInfo> techniqueOptions(std::string_view id) {
+    const TechniqueInfo* t = findTechnique(id);
+    return t ? t->options : std::span<const OptionInfo>{};
+}
+
+const OptionInfo* findOption(std::string_view id, std::string_view key) {
+    for (const OptionInfo& o : techniqueOptions(id))
+        if (o.key == key) return &o;
+    return nullptr;
+}
+
+std::string_view passCaption(const TechniqueInfo& info, std::string_view pass) {
+    for (const PassCaption& c : info.passes)
+        if (c.pass == pass) return c.text;
+    for (const PassCaption& c : kCommonPasses)
+        if (c.pass == pass) return c.text;
+    return {};
 }
 
 const TechniqueInfo& requireTechnique(std::string_view id, const std::string& sceneFile) {
     const TechniqueInfo* t = findTechnique(id);
     if (!t) {
         std::string known;
-        for (const TechniqueInfo& k : kTechniques) known += (known.empty() ? "" : ", ") + std::string(k.id);
+        for (const TechniqueInfo& k : registry()) known += (known.empty() ? "" : ", ") + std::string(k.id);
         throw inputError(sceneFile, "/technique", "unknown technique '" + std::string(id) + "' (known: " + known + ")");
     }
     return *t;
@@ -77,7 +139,7 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
     const TechniqueInfo* t = &requireTechnique(id, sceneFile);
     if (!t->build) {
         std::string ready;
-        for (const TechniqueInfo& k : kTechniques)
+        for (const TechniqueInfo& k : registry())
             if (k.build) ready += (ready.empty() ? "" : ", ") + std::string(k.id);
         throw inputError(sceneFile, "/technique",
                          "technique '" + std::string(id) + "' is not implemented yet (implemented: " + ready + ")");
@@ -85,7 +147,7 @@ Frame buildTechnique(std::string_view id, const TechniqueContext& context, const
     if (context.options.is_object()) {
         for (const auto& [key, value] : context.options.items()) {
             bool known = false;
-            for (const std::string_view k : t->optionKeys) known = known || k == key;
+            for (const OptionInfo& k : t->options) known = known || k.key == key;
             if (!known) throw inputError(sceneFile, "/options/" + key, "technique '" + std::string(id) + "' has no option '" + key + "'");
         }
     }
@@ -210,10 +272,10 @@ std::string referenceBufferTarget(std::uint32_t sampleCount) {
 }
 
 std::vector<std::string> withBackBufferTargets(std::vector<std::string> names, std::uint32_t sampleCount) {
-    for (std::string& n : names) {
-        if (n == kBackBufferName) n = backBufferTarget(sampleCount);
-        else if (n == kReferenceBufferName) n = referenceBufferTarget(sampleCount);
-    }
+    // backBufferTarget / referenceBufferTarget of each, appended in place.
+    if (sampleCount > 1)
+        for (std::string& n : names)
+            if (n == kBackBufferName || n == kReferenceBufferName) n.append(".msaa");
     return names;
 }
 
@@ -235,7 +297,7 @@ void checkSampleCount(const TechniqueInfo& info, std::uint32_t sampleCount, cons
         throw inputError(sceneFile, "/technique", "MSAA sample count " + std::to_string(sampleCount) + " is not 1, 2, 4 or 8");
     if (sampleCount > 1 && !info.msaa) {
         std::string ready;
-        for (const TechniqueInfo& k : kTechniques)
+        for (const TechniqueInfo& k : registry())
             if (k.msaa) ready += (ready.empty() ? "" : ", ") + std::string(k.id);
         throw inputError(sceneFile, "/technique",
                          "technique '" + std::string(info.id) + "' does not render with MSAA yet (MSAA: " + ready + ")");

@@ -78,11 +78,12 @@ TEST_CASE("option catalogue: every implemented technique's keys, values, default
     for (const TechniqueInfo& t : techniques()) {
         if (!t.build) continue;
         ++techniquesChecked;
-        std::set<std::string> accepted, catalogued;
-        for (const std::string_view k : t.optionKeys) accepted.insert(std::string(k));
-        for (const OptionInfo& o : techniqueOptions(t.id)) catalogued.insert(std::string(o.key));
         CAPTURE(t.id);
-        CHECK(accepted == catalogued);
+        // The registry's options are the catalogue's table, each key once.
+        std::set<std::string> catalogued;
+        for (const OptionInfo& o : techniqueOptions(t.id)) CHECK(catalogued.insert(std::string(o.key)).second);
+        CHECK(techniqueOptions(t.id).data() == builtinOptionCatalog(t.id).data());
+        CHECK(buildError(t.id, {{"noSuchOption", 1}}).find("/options/noSuchOption") != std::string::npos);
         for (const OptionInfo& o : techniqueOptions(t.id)) {
             CAPTURE(o.key);
             CHECK(!o.meaning.empty());
@@ -130,4 +131,58 @@ TEST_CASE("option catalogue: value text and problems name the accepted values") 
     CHECK(optionValueProblem(*capacity, 0));
     CHECK(!findOption("forward", "coneTest"));
     CHECK(techniqueOptions("preview").empty());
+}
+
+// Every pass a technique's frames can hold has a caption in the registry (TechniqueInfo::passes or
+// the shared ones): the report and the inspector show it, and a missing one would silently be "".
+// Frames are only built, not run, for the default options, each listed value of each option, 1
+// and 4 samples, and precision exact and reference.
+TEST_CASE("technique registry: every pass of every option value, sample count and precision has a caption") {
+    static const Scene scene = catalogueScene();
+    static const SceneResources resources(scene);
+    std::set<std::string> seen;  // "technique/pass"
+    for (const TechniqueInfo& t : techniques()) {
+        if (!t.build) continue;
+        std::vector<nlohmann::json> optionSets{nlohmann::json::object()};
+        for (const OptionInfo& o : t.options)
+            for (const nlohmann::json& value : listedValues(o)) optionSets.push_back({{std::string(o.key), value}});
+        for (const nlohmann::json& options : optionSets)
+            for (const std::uint32_t samples : {1u, 4u})
+                for (const Precision precision : {Precision::Exact, Precision::Reference}) {
+                    if (samples > 1 && !t.msaa) continue;
+                    Device device(DeviceConfig{64, 1});
+                    TechniqueContext ctx;
+                    ctx.device = &device;
+                    ctx.resources = &resources;
+                    ctx.width = 16;
+                    ctx.height = 16;
+                    ctx.sampleCount = samples;
+                    ctx.precision = precision;
+                    ctx.options = options;
+                    Frame frame;
+                    try {
+                        frame = buildTechnique(t.id, ctx, "memory.json");
+                    } catch (const InputError&) {
+                        continue;  // a refused combination (e.g. an option that needs one sample) has no passes
+                    }
+                    for (const Pass& pass : frame.passes()) {
+                        CAPTURE(t.id);
+                        CAPTURE(pass.name);
+                        CAPTURE(options.dump());
+                        CHECK(!passCaption(t, pass.name).empty());
+                        seen.insert(std::string(t.id) + "/" + pass.name);
+                    }
+                }
+        // No caption for a pass that no frame holds (a renamed pass leaves none behind).
+        for (const PassCaption& c : t.passes) {
+            CAPTURE(c.pass);
+            CHECK(seen.count(std::string(t.id) + "/" + std::string(c.pass)) == 1);
+        }
+    }
+    // The loop reached the passes that only some option sets, sample counts or precisions add.
+    for (const char* pass : {"forward/resolve", "deferred/edges", "deferred/compose", "deferred/present",
+                             "forward-plus-amd/shadow-rays", "forward-plus-amd/indirect", "light-prepass/final"}) {
+        CAPTURE(pass);
+        CHECK(seen.count(pass) == 1);
+    }
 }

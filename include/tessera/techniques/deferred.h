@@ -45,11 +45,25 @@ namespace tessera {
 // With projection d3d, gbuffer float, position gbuffer, accumulate lighting and circumscribed
 // volumes, the image equals forward's (projection d3d) bit for bit on opaque scenes whose light
 // volumes do not cross the near plane (tests/unit/deferred_test.cpp).
-inline constexpr std::array<std::string_view, 10> kDeferredOptionKeys{
-    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position", "accumulate", "sampler", "alphaTest", "msaaEdges"};
-inline constexpr std::array<std::string_view, 11> kKillzoneOptionKeys{
-    "projection", "reconstruct", "lightVolumes", "volumeRotation", "gbuffer", "position",
-    "accumulate", "sampler",     "alphaTest",    "msaaEdges",      "threshold"};
+// What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 5> kDeferredPassCaptions{{
+    {"gbuffer", "The G-buffer pass: diffuse, specular with the packed specular power, view-space normal and depth, no "
+                "lighting (3dgep article §3 Deferred Shading; demo DeferredRendering.hlsl)."},
+    {"copy depth", "Depth copied so that the light pass can read it while the stencil is written (3dgep demo's main.cpp)."},
+    {"lights", "Per light: the unmark pass clears the stencil where geometry lies in front of the light volume's front "
+               "faces, the shade pass lights the pixels whose stencil stayed 1 behind its back faces (3dgep article §3; "
+               "ERRATA #3, #4). The steps of one light are below."},
+    {"present", "Precision reference: the float light accumulation rounded once into the back buffer."},
+    {"compose", "accumulate=lighting: the summed lighting multiplied by the G-buffer's albedos once, into the back buffer."},
+}};
+inline constexpr std::array<PassCaption, 5> kKillzonePassCaptions{{
+    kDeferredPassCaptions[0],
+    kDeferredPassCaptions[1],
+    {"lights", "Per light: Killzone 2's stencil marking and an occlusion query decide whether the shade draw runs "
+               "(3dgep article §3; ERRATA #6: the eye inside a volume loses it)."},
+    kDeferredPassCaptions[3],
+    kDeferredPassCaptions[4],
+}};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"       R8G8B8A8_UNORM: the image (the demo's RT0 with gbuffer demo)

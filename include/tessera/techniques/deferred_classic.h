@@ -36,11 +36,23 @@ namespace tessera {
 //       and whose decoder takes sqrt(1 - |e|^2) of SNORM codes that can round past |e| = 1 near
 //       z = -1, facing the camera: NaN, a black pixel (ERRATA #29); or the codec defined there.
 //   "sampler", "alphaTest": as forward (the transparent pass).
-inline constexpr std::array<std::string_view, 9> kDeferredClassicOptionKeys{
-    "lightGeometry", "viewVector", "scissorRound", "stencil", "gbuffer", "normalEncoding", "sampler", "alphaTest", "msaaEdges"};
-// light-prepass: the same without "gbuffer" and "normalEncoding".
-inline constexpr std::array<std::string_view, 8> kLightPrePassOptionKeys{
-    "lightGeometry", "viewVector", "scissorRound", "stencil", "sampler", "alphaTest", "msaaEdges", "msaaFinal"};
+// What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 3> kDeferredClassicPassCaptions{{
+    {"gbuffer", "Four R32G32B32A32_FLOAT targets: world normal, diffuse albedo, specular albedo and power, world "
+                "position, 64 bytes a pixel (PR&C D3D11 ch. 11 §11.2, Listing 11.1)."},
+    {"lights", "One additive full-screen pass per light reading the G-buffer at the pixel (PR&C D3D11 ch. 11 §11.2, "
+               "Listing 11.3; ERRATA #27); scissor rectangles and light volumes (§11.4.2) are options that shade the "
+               "same pixels for less work."},
+    {"present", "The float light sum converted to the back buffer (precision reference)."},
+}};
+inline constexpr std::array<PassCaption, 3> kLightPrePassPassCaptions{{
+    {"gbuffer", "Two R32G32B32A32_FLOAT targets: world normal with the specular power, world position, 32 bytes a pixel "
+                "(PR&C D3D11 ch. 11 §11.3, Listing 11.4)."},
+    {"lights", "Each light adds N.L x colour x attenuation and a monochrome specular to the light buffer (PR&C D3D11 "
+               "ch. 11 §11.3, Listing 11.5)."},
+    {"final", "The opaque geometry drawn a second time, LESS_EQUAL against its own depth: light buffer x diffuse texel "
+              "+ specular x specular albedo (Listing 11.6)."},
+}};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
 // ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"

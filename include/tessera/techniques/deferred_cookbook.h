@@ -41,9 +41,17 @@ namespace tessera {
 //       full-screen quad (the baseline the volumes save work against: with conservative volumes,
 //       stencil and the pixel's cpPos the two images are equal bit for bit, tests/unit/deferred_cookbook_test.cpp).
 //   "sampler", "alphaTest": as forward (the transparent pass).
-inline constexpr std::array<std::string_view, 10> kDeferredCookbookOptionKeys{
-    "specPowerUnpack", "volumeCull",    "spotVolume", "cpPos",     "background",
-    "volumeScale",     "lightGeometry", "sampler",    "alphaTest", "msaaEdges"};
+// What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 3> kDeferredCookbookPassCaptions{{
+    {"gbuffer", "PackGBuffer: base colour and specular intensity (RGBA8), the world normal as n * 0.5 + 0.5 "
+                "(R11G11B10_FLOAT), the specular power packed over [0.1, 250.1] (RGBA8) and depth (Cookbook ch. 2, "
+                "recipe GBuffer generation)."},
+    {"lights", "The directional light and the hemispheric ambient as a full-screen quad, then each point, spot and "
+               "capsule light as its tessellated volume, additive; each pixel unpacks the G-buffer and rebuilds its "
+               "world position from linear depth (Cookbook ch. 2, recipes GBuffer unpacking, Directional/Point/Capsule/"
+               "Spot light; ERRATA #22-#26)."},
+    {"present", "The float accumulation converted to the back buffer (precision reference)."},
+}};
 
 // CalcAmbient's constants (the companion code's AmbientDown / AmbientRange are set by its sample
 // app; tessera takes the 3dgep demo's global ambient (0.1, 0.1, 0.15) as the upper colour and a

@@ -31,7 +31,11 @@ namespace tessera {
 //   "alphaTest": false (default: the demo's forward PS applies no AlphaThreshold, ERRATA #2)
 //       | true (discard when alpha * Opacity < AlphaThreshold, as the demo's G-buffer PS does;
 //       makes glTF MASK cut-outs work).
-inline constexpr std::array<std::string_view, 3> kForwardOptionKeys{"projection", "sampler", "alphaTest"};
+// What each pass does (TechniqueInfo::passes; "clear", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 1> kForwardPassCaptions{{
+    {"opaque", "Every opaque draw shaded with every light in its pixel shader (3dgep article §2 Forward Rendering; demo "
+               "ForwardRendering.hlsl)."},
+}};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM (the demo's gamma-space values, no sRGB encode),
 // "depth" D24_UNORM_S8_UINT; with precision reference also "backbuffer.reference"

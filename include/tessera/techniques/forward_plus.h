@@ -57,8 +57,17 @@ namespace tessera {
 // Light order inside a tile list: ascending light index (the strided loop appends in lockstep,
 // compute/dispatch.h order rule 2); tiles take their global offsets in row-major order
 // (compute/ordered_counter.h), at any thread count.
-inline constexpr std::array<std::string_view, 7> kForwardPlusOptionKeys{
-    "projection", "sampler", "alphaTest", "lightLists", "coneTest", "tileSize", "culling"};
+// What each pass does (TechniqueInfo::passes; "clear", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 5> kForwardPlusPassCaptions{{
+    {"depth-prepass", "Depth pre-pass: the opaque geometry's depth only, for the tiles' depth ranges (3dgep article §4 "
+                      "Forward+)."},
+    {"frustums", "One frustum per tile, built once from the inverse projection (3dgep article §4; demo "
+                 "ForwardPlusRendering.hlsl)."},
+    {"light-culling", "The culling compute shader: each tile's depth range, then sphere and cone tests against its "
+                      "frustum, appending to the light grid and index list (3dgep article §4; ERRATA #10, #14, #15)."},
+    {"heatmap", "Lights per tile as the demo's debug texture."},
+    {"opaque", "Shading reads only the tile's light list (3dgep article §4)."},
+}};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"            R8G8B8A8_UNORM: the image

@@ -63,10 +63,20 @@ namespace tessera {
 // after the opaque pass as forward does (alpha blend, no depth write, cull none) with a second
 // list per tile over [near plane, maxZ] (cleared pixels count as the far plane; MinMax only), the
 // choice of 3dgep's transparent list. Shading amd outputs alpha = DiffuseTex.a * Opacity there.
-inline constexpr std::array<std::string_view, 19> kForwardPlusAmdOptionKeys{
-    "shading",        "culling",     "halfZ",      "projection", "sampler",      "alphaTest",  "lightLoop",
-    "shadows",        "shadowNormalOffset", "shadowBackfaces", "shadowOverflow", "indirect", "rsmSize", "vplGrid",
-    "vplConeDeg",     "vplRange",    "vplIntensity", "vplDirection", "vplOffset"};
+// What each pass does (TechniqueInfo::passes; "clear", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 8> kForwardPlusAmdPassCaptions{{
+    {"depth-prepass", "Depth pre-pass (GPU Pro 4 ch. 5 §5.2)."},
+    {"light-culling", "Gather-based culling over 8x8 px tiles with the 2.5D depth mask (GPU Pro 4 ch. 5 §5.3.1, §5.6.1; "
+                      "ForwardPlus11 CullLightsCS)."},
+    {"rsm", "indirect: a reflective shadow map per VPL-casting light, position, normal and colour (GPU Pro 4 ch. 5 §5.6.3)."},
+    {"vpl", "indirect: virtual point lights placed on a grid over the reflective shadow map (GPU Pro 4 ch. 5 §5.6.3)."},
+    {"shadow-jobs", "shadows: one ray job per pixel and shadow-casting light in the tile's list (GPU Pro 4 ch. 5 §5.6.2)."},
+    {"shadow-rays", "shadows: the jobs' rays cast against the scene, their hits packed into per-pixel masks "
+                    "(GPU Pro 4 ch. 5 §5.6.2; Embree stands in for the DXR-less chapter's compute ray caster)."},
+    {"opaque", "Final shading with the tile's lists and AMD's falloff (GPU Pro 4 ch. 5 §5.3.2; ForwardPlus11 "
+               "RenderScenePS; ERRATA #18)."},
+    {"indirect", "indirect: each pixel adds its tile's VPLs (GPU Pro 4 ch. 5 §5.6.3)."},
+}};
 
 // Buffers (--dump writes them all; tiles = ceil(W / 8) x ceil(H / 8)):
 //   "backbuffer" R8G8B8A8_UNORM, "depth" D24_UNORM_S8_UINT (the pre-pass depth)

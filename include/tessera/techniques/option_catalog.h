@@ -33,10 +33,10 @@ struct OptionInfo {
     double minNumber = 0.0, maxNumber = 0.0;    // Number: the closed range accepted
 };
 
-// The options of technique `id` (empty for an unknown id or one without options).
-std::span<const OptionInfo> techniqueOptions(std::string_view id);
-// The option `key` of technique `id`, or null.
-const OptionInfo* findOption(std::string_view id, std::string_view key);
+// The option tables of the built-in techniques (empty for an id without one): each registry row's
+// TechniqueInfo::options (technique.h, which also answers techniqueOptions and findOption for
+// every registered technique).
+std::span<const OptionInfo> builtinOptionCatalog(std::string_view id);
 
 // Why `value` is not a value of `option` ("'x' is not one of a, b"), or nullopt when it is.
 std::optional<std::string> optionValueProblem(const OptionInfo& option, const nlohmann::json& value);

@@ -18,6 +18,7 @@
 #include <tessera/raster/device.h>
 #include <tessera/state/precision.h>
 #include <tessera/scene/scene_resources.h>
+#include <tessera/techniques/option_catalog.h>
 
 namespace tessera {
 
@@ -54,21 +55,35 @@ struct TechniqueContext {
 };
 
 
+// One pass a technique's frames can hold, as the report and the inspector show it: what it does
+// and where its source describes it (the short names of docs/sources.md).
+struct PassCaption {
+    std::string_view pass;
+    std::string_view text;
+};
+
+// Everything the command line, the report, the tests and the benchmarks know of a technique,
+// declared once in the technique's own header: they ask this and never compare ids.
 struct TechniqueInfo {
     std::string_view id;
     std::string_view summary;
     std::string_view source;       // the source it follows (docs/sources.md)
     // Null while the technique is planned but not implemented.
     Frame (*build)(const TechniqueContext&) = nullptr;
-    // The option keys the technique accepts in "options" (others are rejected).
-    std::span<const std::string_view> optionKeys;
+    // Every key the technique accepts in "options", with its values, faithful default, correction
+    // and erratum (option_catalog.h); buildTechnique rejects any other key.
+    std::span<const OptionInfo> options;
+    // A caption for each pass its frames can hold, except the passes every technique shares
+    // (kCommonPassCaptions: "clear", "transparent", "resolve"); a test holds every pass of every
+    // option set captioned.
+    std::span<const PassCaption> passes;
     // How SceneResources should decode colour textures for this technique.
     TexturePolicy textures = TexturePolicy::Gltf;
     // Renders with TechniqueContext::sampleCount > 1 (multisampled targets and a resolve).
     bool msaa = false;
     // What the technique does with the scene's lights beyond plain point, spot and directional
-    // ones (TechniqueFeature bits): the command line warns about what a scene asks for and the
-    // technique leaves out, without comparing technique ids.
+    // ones, and its role among the others (TechniqueFeature bits): the command line warns about
+    // what a scene asks for and the technique leaves out, without comparing technique ids.
     std::uint32_t features = 0;
     // The edge of its per-tile light lists ("lightgrid*" buffers) in px: the "tileSize" option when
     // the technique has one, else this; 0 for techniques without tiles.
@@ -82,14 +97,32 @@ enum TechniqueFeature : std::uint32_t {
     kShadowRaysAndVpls = 1u << 2,    // shadow-casting and indirect lights (others light them as plain lights)
     kOwnHeadLight = 1u << 3,         // lights without the scene's lights (no default rig for a scene without any)
     kPerLightSteps = 1u << 4,        // calls TechniqueContext::afterLightStep (--dump-lights)
+    kInspectionView = 1u << 5,       // no light model (preview): left out of the report's comparisons
+    kComparisonBaseline = 1u << 6,   // the image every other technique is compared against (forward)
 };
 
+// The passes every technique may hold, captioned once.
+extern const std::span<const PassCaption> kCommonPassCaptions;
+
+// The built-in techniques, then those added by registerTechnique, in that order.
 std::span<const TechniqueInfo> techniques();
+// Adds a technique to the registry (a test's or an embedding program's own): from then on it is
+// listed, built, optioned and captioned as the built-in ones are. Throws std::invalid_argument for
+// an empty id, an id already registered, a missing build function, or a full registry (64
+// techniques). Rows never move: pointers and spans from the functions here stay valid, though a
+// span from techniques() does not see later registrations.
+void registerTechnique(const TechniqueInfo& info);
 // Null when no technique has this id.
 const TechniqueInfo* findTechnique(std::string_view id);
 // The technique with this id (ready or planned); throws InputError naming `sceneFile` and
 // "/technique" with the known ids when there is none.
 const TechniqueInfo& requireTechnique(std::string_view id, const std::string& sceneFile);
+// The options of technique `id` (TechniqueInfo::options; empty for an unknown id or one without
+// options), and its option `key` or null.
+std::span<const OptionInfo> techniqueOptions(std::string_view id);
+const OptionInfo* findOption(std::string_view id, std::string_view key);
+// What pass `pass` of `info` does: its own caption, else the shared one; empty when neither has it.
+std::string_view passCaption(const TechniqueInfo& info, std::string_view pass);
 
 // Builds the frame; throws InputError for an unknown or unimplemented technique id or an
 // unknown option key (naming "/technique" or "/options/KEY").

@@ -1,7 +1,7 @@
 // Reading a technique's "options" (the scene file's JSON object) with clear errors: each helper
 // returns the value of one key or its default, and throws InputError naming "/options/KEY" for
 // a value of the wrong type or outside the allowed set. Unknown keys are rejected earlier, by
-// buildTechnique, against TechniqueInfo::optionKeys.
+// buildTechnique, against TechniqueInfo::options.
 #pragma once
 
 #include <cstdint>

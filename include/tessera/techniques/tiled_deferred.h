@@ -59,9 +59,13 @@ namespace tessera {
 //   "projection": "d3d"   the only value: Intel's view-z reconstruction needs a D3D-form matrix
 //       (3dgep's perspectiveRH_ZO; _11, _22, _33, _43 of its left-handed equivalent).
 //   "sampler", "alphaTest": as forward (G-buffer textures; alphaTest: the transparent pass).
-inline constexpr std::array<std::string_view, 11> kTiledDeferredOptionKeys{
-    "shading",          "gbuffer",    "position", "normals",   "tilePlanes", "tileSize",
-    "tileListCapacity", "projection", "sampler",  "alphaTest", "msaaEdges"};
+// What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
+inline constexpr std::array<PassCaption, 3> kTiledDeferredPassCaptions{{
+    {"gbuffer", "The G-buffer (Intel 2010 sample GBuffer.hlsl)."},
+    {"tiles", "One compute dispatch: per tile the depth range, side planes from the projection, the light list and the "
+              "shading of the tile's pixels (Intel 2010 sample ComputeShaderTile.hlsl; ERRATA #12, #16)."},
+    {"present", "The lit result converted to the back buffer."},
+}};
 
 // Buffers (--dump writes them all):
 //   "backbuffer"        R8G8B8A8_UNORM, the image
