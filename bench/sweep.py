@@ -38,31 +38,50 @@ import time
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES_DIR = os.path.join(REPO, "scenes")
 
-# Technique options (scene file "options"), as include/tessera/techniques/<technique>.h documents
-# them. The first set of each technique is its defaults; --full adds the rest.
-KNOBS_SMALL = {
-    "forward": [{}],
-    "deferred": [{}, {"gbuffer": "float"}],
-    "deferred-killzone": [{}],
-    "forward-plus": [{}, {"tileSize": 8}, {"tileSize": 32}],
-    "tiled-deferred": [{}, {"shading": "3dgep"}],
-    "forward-plus-amd": [{}, {"shading": "3dgep"}],
-    "preview": [{}],
-}
-KNOBS_FULL = {
-    "forward": [{}, {"projection": "d3d"}],
-    "deferred": [{}, {"gbuffer": "float"}, {"gbuffer": "float", "position": "gbuffer"},
-                 {"lightVolumes": "circumscribed"}, {"projection": "d3d", "reconstruct": "centre"}],
-    "deferred-killzone": [{}, {"gbuffer": "float"}],
-    "forward-plus": [{}, {"tileSize": 8}, {"tileSize": 32}, {"culling": "brute"}, {"coneTest": "corrected"},
-                     {"lightLists": "unbounded"}],
-    "tiled-deferred": [{}, {"shading": "3dgep"}, {"shading": "3dgep", "tileSize": 8}, {"shading": "3dgep", "tileSize": 32},
-                       {"shading": "3dgep", "gbuffer": "float"}, {"tilePlanes": "tile"},
-                       {"tileListCapacity": "unbounded"}],
-    "forward-plus-amd": [{}, {"shading": "3dgep"}, {"culling": "min-max"}, {"halfZ": True},
-                         {"lightLoop": "all-lights"}, {"shading": "3dgep", "culling": "min-max"}],
-    "preview": [{}],
-}
+# Techniques and their options ("knobs") come from the technique registry (`tessera options --json`),
+# so a technique added to the library is swept without an edit here. Each ready technique that is
+# not an inspection view: its defaults (faithful to the source) and, when any of its options corrects
+# an erratum, one set with every correction on; --full adds one set per listed value of each
+# word, boolean or integer option that differs from its default (one option changed at a time).
+def registry(binary):
+    """The technique registry as `tessera options --json` prints it."""
+    try:
+        out = subprocess.run([binary, "options", "--json"], check=True, capture_output=True, text=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        fail(f"sweep.py: --tessera: cannot read the technique registry from '{binary} options --json': {e}")
+    return json.loads(out)
+
+
+def option_json(option, text):
+    """A catalogue value (text) as the JSON value a scene file's "options" takes."""
+    if option["kind"] == "bool":
+        return text == "true"
+    if option["kind"] == "integer" or (option["kind"] == "integer-or-word" and text.isdigit()):
+        return int(text)
+    return text
+
+
+def knob_sets(technique, full):
+    """The option sets swept for one registry entry, defaults first."""
+    sets = [{}]
+    corrections = {o["key"]: option_json(o, o["corrected"]) for o in technique["options"] if o["corrected"] and o["erratum"]}
+    if corrections:
+        sets.append(corrections)
+    if full:
+        for o in technique["options"]:
+            if o["kind"] not in ("word", "bool", "integer"):
+                continue
+            default = o["faithful"].split(" ")[0]
+            for v in o["values"]:
+                if v != default and {o["key"]: option_json(o, v)} not in sets:
+                    sets.append({o["key"]: option_json(o, v)})
+    return sets
+
+
+def knobs_from_registry(binary, full):
+    return {t["id"]: knob_sets(t, full) for t in registry(binary) if t["ready"] and not t["inspectionView"]}
+
+
 MSAA_SMALL, MSAA_FULL = [1, 4], [1, 2, 4, 8]  # builtin scene only
 LIGHTS_FULL = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]
 PRECISIONS = ["reference", "exact", "fast"]
@@ -101,7 +120,7 @@ def load_scene(path):
 
 def build_cells(args):
     """Every cell of the sweep, in a fixed order (the same flags give the same list everywhere)."""
-    knobs = KNOBS_FULL if args.full else KNOBS_SMALL
+    knobs = knobs_from_registry(args.tessera, args.full)
     lights = parse_list(args.lights, int) if args.lights else (LIGHTS_FULL if args.full else [8, 32, 128])
     cells = []
     for scene in parse_list(args.scenes):
@@ -111,7 +130,7 @@ def build_cells(args):
         else:
             has_generators = bool(load_scene(path).get("generate"))
             combos = []
-            for technique in parse_list(args.techniques):
+            for technique in (parse_list(args.techniques) if args.techniques else list(knobs)):
                 if technique not in knobs:
                     fail(f"sweep.py: --techniques: '{technique}' has no knob list here (known: {', '.join(knobs)})")
                 for k in knobs[technique]:
@@ -439,8 +458,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(REPO, "out", "sweep"), help="output folder (default out/sweep, git-ignored)")
     ap.add_argument("--scenes", default="sponza-large-lights,builtin",
                     help="bundled scene names or scene files, and/or builtin (default: %(default)s)")
-    ap.add_argument("--techniques", default="forward,deferred,forward-plus,tiled-deferred,forward-plus-amd",
-                    help="techniques for the scene files (builtin has its own; default: %(default)s)")
+    ap.add_argument("--techniques", default="",
+                    help="techniques for the scene files (builtin has its own; default: every ready technique of the "
+                         "registry but inspection views)")
     ap.add_argument("--precisions", default="reference,exact,fast")
     ap.add_argument("--lights", default="", help="light counts for scenes with light generators "
                     "(default 8,32,128; with --full 1,2,4,...,1024)")

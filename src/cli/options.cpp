@@ -1,9 +1,13 @@
-// `tessera options [TECHNIQUE]`: the option catalogue (techniques/option_catalog.h) as text: each
-// option's values, faithful default, correction and ERRATA.md row.
+// `tessera options [TECHNIQUE] [--json]`: the registry's option catalogue (techniques/technique.h,
+// option_catalog.h) as text, each option's values, faithful default, correction and ERRATA.md row;
+// or, with --json, the whole registry for scripts (bench/sweep.py takes its techniques and knobs
+// from it instead of lists of its own).
 #include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include <tessera/techniques/option_catalog.h>
 #include <tessera/techniques/technique.h>
@@ -14,21 +18,58 @@
 namespace tessera::cli {
 namespace {
 
-constexpr const char* kOptionsUsage = R"(usage: tessera options [TECHNIQUE]
+constexpr const char* kOptionsUsage = R"(usage: tessera options [TECHNIQUE] [--json]
 
 Lists the options each technique accepts (in a scene file's "options" object, or with
 `tessera render --option KEY=VALUE`): the values, the default (faithful to the source), the
 correcting value where the option corrects an erratum, the ERRATA.md row, and what it changes.
+--json prints the technique registry instead: per technique its id, source, whether it is
+ready, renders MSAA, is the comparison baseline or an inspection view, its pass captions and
+its options (key, kind, values, minimum, range, faithful, corrected, erratum, meaning).
 )";
+
+constexpr std::string_view kKindNames[] = {"word", "bool", "integer", "integer-or-word", "number"};
+
+nlohmann::json registryJson(std::string_view only) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const tessera::TechniqueInfo& t : tessera::techniques()) {
+        if (!only.empty() && t.id != only) continue;
+        nlohmann::json options = nlohmann::json::array();
+        for (const tessera::OptionInfo& o : t.options) {
+            nlohmann::json values = nlohmann::json::array();
+            for (const std::string_view v : o.values) values.push_back(std::string(v));
+            nlohmann::json row{{"key", std::string(o.key)}, {"kind", std::string(kKindNames[std::size_t(o.kind)])},
+                               {"values", values}, {"faithful", std::string(o.faithful)},
+                               {"corrected", std::string(o.corrected)}, {"erratum", o.erratum},
+                               {"meaning", std::string(o.meaning)}};
+            if (o.minInteger >= 0) row["minInteger"] = o.minInteger;
+            if (o.kind == tessera::OptionInfo::Kind::Number) row["range"] = {o.minNumber, o.maxNumber};
+            options.push_back(std::move(row));
+        }
+        nlohmann::json passes = nlohmann::json::object();
+        for (const tessera::PassCaption& c : t.passes) passes[std::string(c.pass)] = std::string(c.text);
+        out.push_back({{"id", std::string(t.id)}, {"summary", std::string(t.summary)}, {"source", std::string(t.source)},
+                       {"ready", t.build != nullptr}, {"msaa", t.msaa},
+                       {"baseline", (t.features & tessera::kComparisonBaseline) != 0},
+                       {"inspectionView", (t.features & tessera::kInspectionView) != 0},
+                       {"tileSize", t.tileSize}, {"passes", passes}, {"options", options}});
+    }
+    return out;
+}
 
 } // namespace
 
 int optionsCommand(const std::vector<std::string_view>& args) {
     std::string only;
+    bool json = false;
     for (const std::string_view a : args) {
         if (a == "--help" || a == "-h") {
             std::fputs(kOptionsUsage, stdout);
             return 0;
+        }
+        if (a == "--json") {
+            json = true;
+            continue;
         }
         if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + std::string(a) + "' (see tessera options --help)");
         if (!only.empty()) throw UsageError("options takes one TECHNIQUE at most");
@@ -38,6 +79,10 @@ int optionsCommand(const std::vector<std::string_view>& args) {
             for (const tessera::TechniqueInfo& t : tessera::techniques()) ids += (ids.empty() ? "" : ", ") + std::string(t.id);
             throw UsageError("options: unknown technique '" + only + "' (one of " + ids + ")");
         }
+    }
+    if (json) {
+        std::printf("%s\n", registryJson(only).dump(2).c_str());
+        return 0;
     }
     bool first = true;
     for (const tessera::TechniqueInfo& t : tessera::techniques()) {
