@@ -30,11 +30,10 @@ Scene catalogueScene() {
     return scene;
 }
 
-// "" when the technique builds and renders with these options, else the InputError's text.
-std::string buildError(std::string_view technique, const nlohmann::json& options) {
+// A 16x16 px frame of catalogueScene() on `device` with these options.
+TechniqueContext catalogueContext(Device& device, const nlohmann::json& options) {
     static const Scene scene = catalogueScene();
     static const SceneResources resources(scene);
-    Device device(DeviceConfig{64, 1});
     TechniqueContext ctx;
     ctx.device = &device;
     ctx.resources = &resources;
@@ -42,6 +41,13 @@ std::string buildError(std::string_view technique, const nlohmann::json& options
     ctx.height = 16;
     ctx.options = options;
     ctx.sceneFile = "memory.json";
+    return ctx;
+}
+
+// "" when the technique builds and renders with these options, else the InputError's text.
+std::string buildError(std::string_view technique, const nlohmann::json& options) {
+    Device device(DeviceConfig{64, 1});
+    const TechniqueContext ctx = catalogueContext(device, options);
     try {
         BufferRegistry registry;
         buildTechnique(technique, ctx, ctx.sceneFile).run(registry);
@@ -138,8 +144,6 @@ TEST_CASE("option catalogue: value text and problems name the accepted values") 
 // Frames are only built, not run, for the default options, each listed value of each option, 1
 // and 4 samples, and precision exact and reference.
 TEST_CASE("technique registry: every pass of every option value, sample count and precision has a caption") {
-    static const Scene scene = catalogueScene();
-    static const SceneResources resources(scene);
     std::set<std::string> seen;  // "technique/pass"
     for (const TechniqueInfo& t : techniques()) {
         if (!t.build) continue;
@@ -151,17 +155,12 @@ TEST_CASE("technique registry: every pass of every option value, sample count an
                 for (const Precision precision : {Precision::Exact, Precision::Reference}) {
                     if (samples > 1 && !t.msaa) continue;
                     Device device(DeviceConfig{64, 1});
-                    TechniqueContext ctx;
-                    ctx.device = &device;
-                    ctx.resources = &resources;
-                    ctx.width = 16;
-                    ctx.height = 16;
+                    TechniqueContext ctx = catalogueContext(device, options);
                     ctx.sampleCount = samples;
                     ctx.precision = precision;
-                    ctx.options = options;
                     Frame frame;
                     try {
-                        frame = buildTechnique(t.id, ctx, "memory.json");
+                        frame = buildTechnique(t.id, ctx, ctx.sceneFile);
                     } catch (const InputError&) {
                         continue;  // a refused combination (e.g. an option that needs one sample) has no passes
                     }
