@@ -17,6 +17,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::cli_cli_honest_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -372,3 +375,5 @@ TEST_CASE("cli honest: --generated-bitangent down changes a render whose normal 
     CHECK(bad.exitCode == 2);
     CHECK(bad.output.find("--generated-bitangent: 'sideways' is not down or up") != std::string::npos);
 }
+
+} // namespace tessera_test::cli_cli_honest_test

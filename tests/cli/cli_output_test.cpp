@@ -25,6 +25,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::cli_cli_output_test {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -375,3 +378,5 @@ TEST_CASE("cli: --dump-lights writes deferred's buffers after each step of the c
         CHECK(e.output.find(c.mentions) != std::string::npos);
     }
 }
+
+} // namespace tessera_test::cli_cli_output_test

@@ -12,6 +12,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_deferred_cookbook_test {
+
 using namespace tessera;
 
 namespace {
@@ -201,3 +204,5 @@ TEST_CASE("deferred-cookbook: the same bytes at 1, 2 and 7 threads, every buffer
         CHECK(test::sameBytes(one.get(name), seven.get(name)));
     }
 }
+
+} // namespace tessera_test::unit_deferred_cookbook_test

@@ -14,6 +14,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_option_catalog_test {
+
 using namespace tessera;
 
 namespace {
@@ -131,3 +134,5 @@ TEST_CASE("option catalogue: value text and problems name the accepted values") 
     CHECK(!findOption("forward", "coneTest"));
     CHECK(techniqueOptions("preview").empty());
 }
+
+} // namespace tessera_test::unit_option_catalog_test
