@@ -180,7 +180,7 @@ TEST_CASE("deferred-cookbook: a capsule light lights the floor along its segment
     CHECK(redder > 200);
     // The volumes still match the quads with a capsule.
     test::Rendered quads;
-    test::render(with, "deferred-cookbook", ::with(corrected(), "lightGeometry", "quads"), quads);
+    test::render(with, "deferred-cookbook", unit_deferred_cookbook_test::with(corrected(), "lightGeometry", "quads"), quads);
     CHECK(test::sameBytes(a.back(), quads.back()));
     // forward, deferred, forward-plus: the capsule changes nothing.
     for (const char* technique : {"forward", "deferred", "forward-plus", "forward-plus-amd", "tiled-deferred"}) {
