@@ -25,6 +25,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::cli_cli_output_test {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -35,7 +38,10 @@ struct Run {
 };
 
 FILE* start(const std::string& args) {
-    const std::string cmd = std::string(TESSERA_CLI) + " " + args + " 2>&1";
+    std::string cmd = TESSERA_CLI;  // += rather than a + chain: GCC 12's -Warray-bounds misfires on the chain (unity batch)
+    cmd += ' ';
+    cmd += args;
+    cmd += " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     REQUIRE(pipe != nullptr);
     return pipe;
@@ -375,3 +381,5 @@ TEST_CASE("cli: --dump-lights writes deferred's buffers after each step of the c
         CHECK(e.output.find(c.mentions) != std::string::npos);
     }
 }
+
+} // namespace tessera_test::cli_cli_output_test

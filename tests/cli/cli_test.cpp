@@ -12,6 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::cli_cli_test {
+
 namespace {
 
 struct Run {
@@ -587,3 +590,5 @@ TEST_CASE("cli: GNU long options: --flag=value equals --flag value, byte for byt
     CHECK(!bytesA.empty());
     CHECK(bytesA == bytesB);
 }
+
+} // namespace tessera_test::cli_cli_test

@@ -20,6 +20,9 @@
 #include <string>
 #include <vector>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::compute_compute_test {
+
 namespace tc = tessera::compute;
 using tc::ThreadIds;
 
@@ -702,3 +705,5 @@ TEST_CASE("compute: group-shared memory is value-initialised for every group") {
     CHECK(stats.phases == 40);
     CHECK(seen == std::vector<std::uint32_t>(40, 7));
 }
+
+} // namespace tessera_test::compute_compute_test

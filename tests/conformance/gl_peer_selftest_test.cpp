@@ -12,6 +12,9 @@
 #include <optional>
 #include <string>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::conformance_gl_peer_selftest_test {
+
 using namespace tessera::peer;
 
 namespace {
@@ -340,3 +343,5 @@ TEST_CASE("gl_peer: timeRender returns a positive median") {
     CHECK(seconds > 0.0);
     CHECK(seconds < 1.0);
 }
+
+} // namespace tessera_test::conformance_gl_peer_selftest_test

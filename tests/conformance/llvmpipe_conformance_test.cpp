@@ -21,6 +21,9 @@
 #include "support/test_draw.h"
 #include "tessera_replay.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::conformance_llvmpipe_conformance_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -253,3 +256,5 @@ TEST_CASE("llvmpipe: sloped depth against the exact plane, one triangle at a tim
     CHECK(pixels > 10000);
     CHECK(maxErrTessera <= 1.0 / 2097152.0);  // 2^-21: a few ulps of values below 1
 }
+
+} // namespace tessera_test::conformance_llvmpipe_conformance_test

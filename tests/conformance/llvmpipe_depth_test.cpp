@@ -36,6 +36,9 @@
 #include "support/test_draw.h"
 #include "tessera_replay.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::conformance_llvmpipe_depth_test {
+
 using namespace tessera;
 using namespace tessera::test;
 namespace dt = tessera::depth_truth;
@@ -276,3 +279,5 @@ TEST_CASE("llvmpipe depth: Sponza's worst triangles: tessera at the D3D11 depth,
                      << d.maxPeer << " codes at (" << d.worstX << ", " << d.worstY << ")");
     }
 }
+
+} // namespace tessera_test::conformance_llvmpipe_depth_test

@@ -28,6 +28,9 @@
 #include "support/test_draw.h"
 #include "tessera_replay.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::conformance_llvmpipe_raster_rules_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -458,3 +461,5 @@ TEST_CASE("llvmpipe rules: blending, colour write masks and scissor rectangles")
         checkFrame(rounded, "blending with rounded products, write masks, scissor", Tolerance{3, 0});
     }
 }
+
+} // namespace tessera_test::conformance_llvmpipe_raster_rules_test

@@ -17,6 +17,9 @@
 #include <cstring>
 #include <vector>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::determinism_compute_determinism_test {
+
 namespace tc = tessera::compute;
 using tc::ThreadIds;
 
@@ -191,3 +194,5 @@ TEST_CASE("compute determinism: Parallel dispatches are identical at 1, 2, 7 and
         });
     }
 }
+
+} // namespace tessera_test::determinism_compute_determinism_test

@@ -9,6 +9,9 @@
 
 #include "support/surface_compare.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::determinism_draw_determinism_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -95,3 +98,5 @@ TEST_CASE("every buffer is identical at 1, 2, 7 and 16 threads and at tile sizes
         }
     }
 }
+
+} // namespace tessera_test::determinism_draw_determinism_test

@@ -6,6 +6,9 @@
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::extremes_geometry_extremes_test {
+
 using namespace tessera;
 using namespace tessera::test;
 using namespace tessera::test::extremes;
@@ -144,3 +147,5 @@ TEST_CASE("geometry: world scaled by every decade from 1e-20 to 1e20, no NaN in 
         runCase("geometry decade 1e" + std::to_string(decade), scaled(room(), s), o);
     }
 }
+
+} // namespace tessera_test::extremes_geometry_extremes_test

@@ -4,6 +4,9 @@
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::extremes_light_extremes_test {
+
 using namespace tessera;
 using namespace tessera::test;
 using namespace tessera::test::extremes;
@@ -178,3 +181,5 @@ TEST_CASE("lights: colour x intensity just inside binary32") {
         }
     }
 }
+
+} // namespace tessera_test::extremes_light_extremes_test

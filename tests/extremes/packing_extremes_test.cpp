@@ -12,6 +12,9 @@
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::extremes_packing_extremes_test {
+
 using namespace tessera;
 using namespace tessera::test;
 using namespace tessera::test::extremes;
@@ -162,3 +165,5 @@ TEST_CASE("packing: a wall 3 D24 steps in front of the far plane is drawn, the f
         if (drawn) CHECK(code >= 0xFFFFFFu - 4u);
     }
 }
+
+} // namespace tessera_test::extremes_packing_extremes_test

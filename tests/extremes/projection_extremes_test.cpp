@@ -6,6 +6,9 @@
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::extremes_projection_extremes_test {
+
 using namespace tessera;
 using namespace tessera::test;
 using namespace tessera::test::extremes;
@@ -184,3 +187,5 @@ TEST_CASE("projection: the near plane cuts through the room") {
 TEST_CASE("projection: the far plane cuts through the room") {
     runCase("projection far plane through the scene", withNearFar(room(), 0.1f, 11.0f));
 }
+
+} // namespace tessera_test::extremes_projection_extremes_test

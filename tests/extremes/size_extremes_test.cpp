@@ -3,6 +3,9 @@
 #include "extremes/extremes.h"
 #include "extremes/scenes.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::extremes_size_extremes_test {
+
 using namespace tessera;
 using namespace tessera::test;
 using namespace tessera::test::extremes;
@@ -43,3 +46,5 @@ TEST_CASE("sizes: 33x65 (one pixel past a tile multiple)") { runCase("sizes 33x6
 TEST_CASE("sizes: 16384x16") { runCase("sizes 16384x16", room(), strip(16384, 16)); }
 
 TEST_CASE("sizes: 16x16384") { runCase("sizes 16x16384", room(), strip(16, 16384)); }
+
+} // namespace tessera_test::extremes_size_extremes_test

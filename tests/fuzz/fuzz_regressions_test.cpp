@@ -13,6 +13,9 @@
 
 #include "fuzz_harness.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::fuzz_fuzz_regressions_test {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -64,3 +67,5 @@ TEST_CASE("fuzz inputs: glTF files are accepted or refused with InputError") {
 TEST_CASE("fuzz inputs: render arguments are accepted or refused with UsageError") {
     CHECK(replay("cli", tessera::fuzz::fuzzCli) > 0);  // the seed corpus is there
 }
+
+} // namespace tessera_test::fuzz_fuzz_regressions_test

@@ -9,6 +9,9 @@
 #include <tessera/techniques/builtin_scene.h>
 #include "support/golden_check.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_builtin_golden_test {
+
 using namespace tessera;
 
 namespace {
@@ -37,3 +40,5 @@ TEST_CASE("golden: built-in scene, 1 sample, identical at 1, 2 and 7 threads") {
 TEST_CASE("golden: built-in scene, 4x MSAA resolved") {
     test::checkGolden(renderBuiltin(2, 4), "builtin", "forward-msaa4");
 }
+
+} // namespace tessera_test::golden_builtin_golden_test

@@ -3,6 +3,9 @@
 // per-vertex cpPos, no stencil) and every correction on. 320x180 at 1 and 2 threads (bytes must agree).
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_deferred_cookbook_golden_test {
+
 using namespace tessera;
 
 namespace {
@@ -37,3 +40,5 @@ TEST_CASE("golden: Sponza with 64 large lights, deferred-cookbook, 320x180") {
 TEST_CASE("golden: Sponza with 64 large lights, deferred-cookbook with every correction, 320x180") {
     checkCookbook("sponza-large-lights", true);
 }
+
+} // namespace tessera_test::golden_deferred_cookbook_golden_test

@@ -4,6 +4,9 @@
 // view (1280x720, the article's resolution, 64 large lights) runs once, at 2 threads.
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_forward_golden_test {
+
 using namespace tessera;
 
 TEST_CASE("golden: default scene, forward, 320x180") {
@@ -19,3 +22,5 @@ TEST_CASE("golden: Sponza with 64 large lights, forward, 1280x720") {
     BufferRegistry buffers = sponza.render("forward", 2);
     test::checkGolden(buffers.get(kBackBufferName), "sponza-large-lights", "forward-1280x720");
 }
+
+} // namespace tessera_test::golden_forward_golden_test

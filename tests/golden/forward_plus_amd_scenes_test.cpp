@@ -21,6 +21,9 @@
 
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_forward_plus_amd_scenes_test {
+
 using namespace tessera;
 
 namespace {
@@ -292,3 +295,5 @@ TEST_CASE("golden: Sponza sun (ray-cast shadows, VPL bounce), forward-plus-amd, 
     CHECK(counters[1] > 1000);   // occluded
     test::checkGolden(one.get(kBackBufferName), "sponza-sun", "forward-plus-amd");
 }
+
+} // namespace tessera_test::golden_forward_plus_amd_scenes_test

@@ -22,6 +22,9 @@
 
 #include "support/surface_compare.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_forward_plus_scenes_test {
+
 using namespace tessera;
 
 namespace {
@@ -228,3 +231,5 @@ TEST_CASE("golden: Sponza with 64 large lights, forward-plus, 320x180") {
     run("sponza-large-lights", "forward-plus", {}, reg, 2);
     test::checkGolden(reg.get(kBackBufferName), "sponza-large-lights", "forward-plus");
 }
+
+} // namespace tessera_test::golden_forward_plus_scenes_test

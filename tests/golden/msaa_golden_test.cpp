@@ -5,6 +5,9 @@
 // technique at 2x (the Sponza scenes with 16 generated lights) checks that MSAA works everywhere.
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_msaa_golden_test {
+
 using namespace tessera;
 
 TEST_CASE("golden: default scene, every technique at 4x MSAA, 320x180") {
@@ -39,3 +42,5 @@ TEST_CASE("msaa: every technique renders every bundled scene at 2x (160x90), the
         }
     }
 }
+
+} // namespace tessera_test::golden_msaa_golden_test

@@ -3,6 +3,9 @@
 // and 2 threads (bytes must agree) and compared exactly with golden/<scene>/preview.png.
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_scene_golden_test {
+
 using namespace tessera;
 
 namespace {
@@ -16,3 +19,5 @@ void checkScene(const std::string& scene) {
 TEST_CASE("golden: default scene (AlphaBlendModeTest + BoxTextured), preview, 320x180") { checkScene("default"); }
 
 TEST_CASE("golden: Sponza, preview, 320x180") { checkScene("sponza-large-lights"); }
+
+} // namespace tessera_test::golden_scene_golden_test

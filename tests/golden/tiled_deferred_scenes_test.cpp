@@ -19,6 +19,9 @@
 
 #include "support/bundled_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::golden_tiled_deferred_scenes_test {
+
 using namespace tessera;
 
 namespace {
@@ -160,3 +163,5 @@ TEST_CASE("tiled-deferred on every bundled scene: lists are conservative (brute 
     // large-light scenes and the default scene reach every tile at 160x90).
     CHECK(pairs > 0);
 }
+
+} // namespace tessera_test::golden_tiled_deferred_scenes_test

@@ -25,6 +25,9 @@
 #include <tessera/io/atomic_file.h>
 #include <tessera/io/image_writer.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::io_atomic_file_test {
+
 using namespace tessera;
 namespace fs = std::filesystem;
 
@@ -228,3 +231,5 @@ TEST_CASE("the same surface gives byte-identical files a second later, and SOURC
     }
     ::unsetenv("SOURCE_DATE_EPOCH");
 }
+
+} // namespace tessera_test::io_atomic_file_test

@@ -15,6 +15,9 @@
 
 #include <tessera/io/image_writer.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::io_image_writer_test {
+
 using namespace tessera;
 namespace fs = std::filesystem;
 
@@ -170,3 +173,5 @@ TEST_CASE("withOpaqueAlpha sets alpha to 1 as a swap chain presents it and keeps
     const Surface r32 = rampSurface(Format::R32_FLOAT);
     CHECK(std::equal(r32.bytes().begin(), r32.bytes().end(), withOpaqueAlpha(r32).bytes().begin()));
 }
+
+} // namespace tessera_test::io_image_writer_test

@@ -16,6 +16,9 @@
 #include <tessera/shading/fast_lighting.h>
 #include <tessera/shading/phong_material_shader.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::precision_fast_lighting_test {
+
 using namespace tessera;
 
 namespace {
@@ -80,3 +83,5 @@ double largestError() {
     return maxRelative;
 }
 } // namespace
+
+} // namespace tessera_test::precision_fast_lighting_test

@@ -13,6 +13,9 @@
 
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::precision_fast_raster_test {
+
 using namespace tessera;
 using test::ColorVertex;
 
@@ -81,3 +84,5 @@ TEST_CASE("fast RGBA8 encode: at most one code from the exact encode, on every f
     MESSAGE(differing << " inputs encode differently");
     CHECK(maxDiff <= 1);
 }
+
+} // namespace tessera_test::precision_fast_raster_test

@@ -19,6 +19,9 @@
 #include "support/bundled_scene.h"
 #include "support/surface_compare.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::precision_precision_modes_test {
+
 using namespace tessera;
 
 namespace {
@@ -137,3 +140,5 @@ TEST_CASE("precision modes: every technique x bundled scene runs reference, exac
         }
     }
 }
+
+} // namespace tessera_test::precision_precision_modes_test

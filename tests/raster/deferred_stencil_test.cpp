@@ -15,6 +15,9 @@
 #include <tessera/techniques/deferred_states.h>
 #include <tessera/techniques/light_volumes.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_deferred_stencil_test {
+
 using namespace tessera;
 
 namespace {
@@ -438,3 +441,7 @@ TEST_CASE("directional pass: the full-screen quad at depth 1 lights geometry pix
         for (std::uint32_t x = 0; x < kWidth; ++x) wrong += (mask.load(x, y).x == 1.0f) != (x < kWidth / 2);
     CHECK(wrong == 0);
 }
+
+#undef CHECK_MATCHES_TRUTH
+
+} // namespace tessera_test::raster_deferred_stencil_test

@@ -9,6 +9,9 @@
 
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_draw_paths_test {
+
 using namespace tessera;
 
 namespace {
@@ -75,3 +78,5 @@ TEST_CASE("SetupStats::touched holds every pixel a draw wrote, and is empty when
                                              {test::windowToClip(-30, -20, 40, 30)}};
     CHECK(device.draw(st, rt, std::span<const test::ColorVertex>(off), {}, test::PassThroughVS{}, test::ColorPS{}).setup.touched.empty());
 }
+
+} // namespace tessera_test::raster_draw_paths_test

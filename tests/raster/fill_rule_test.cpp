@@ -10,6 +10,9 @@
 
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_fill_rule_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -241,3 +244,5 @@ TEST_CASE("fill rule: hand-derived coverage of edges on and beside pixel centres
         }
     }
 }
+
+} // namespace tessera_test::raster_fill_rule_test

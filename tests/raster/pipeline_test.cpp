@@ -15,6 +15,9 @@
 #include "support/surface_compare.h"
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_pipeline_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -448,3 +451,5 @@ TEST_CASE("a device reuses a draw's storage: each draw gives the bytes and count
         CHECK(after.samplesPassed == alone.samplesPassed);
     }
 }
+
+} // namespace tessera_test::raster_pipeline_test

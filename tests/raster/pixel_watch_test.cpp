@@ -7,6 +7,9 @@
 
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_pixel_watch_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -149,3 +152,5 @@ TEST_CASE("pixel watch: the stencil outcome names the op the state chose and its
     CHECK(std::to_integer<int>(e[3].depthAfter[3]) == 7);
     CHECK(e[3].colorAfter == e[3].colorBefore);
 }
+
+} // namespace tessera_test::raster_pixel_watch_test

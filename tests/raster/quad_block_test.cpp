@@ -21,6 +21,9 @@
 #include "support/surface_compare.h"
 #include "support/test_draw.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::raster_quad_block_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -406,3 +409,5 @@ TEST_CASE("draws with SIMD blocks give the same bytes as the scalar path: format
         }
     }
 }
+
+} // namespace tessera_test::raster_quad_block_test

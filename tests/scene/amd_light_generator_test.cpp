@@ -13,6 +13,9 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/shading/amd_lighting.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_amd_light_generator_test {
+
 using namespace tessera;
 
 namespace {
@@ -121,3 +124,5 @@ TEST_CASE("AMD generator: as tessera Lights") {
     CHECK(lights[3].spotHalfAngleDeg == kAmdSpotHalfAngleDeg);
     CHECK_THROWS_AS(lightsFromAmdForwardPlus11(amd, 17, 0), std::invalid_argument);
 }
+
+} // namespace tessera_test::scene_amd_light_generator_test

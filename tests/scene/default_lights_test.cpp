@@ -8,6 +8,9 @@
 
 #include <tessera/scene/default_lights.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_default_lights_test {
+
 using namespace tessera;
 
 TEST_CASE("default light rig: a key and a fill point light whose range covers the bounds at full attenuation") {
@@ -39,3 +42,5 @@ TEST_CASE("default light rig: a key and a fill point light whose range covers th
     }
     CHECK(defaultLightRig(Bounds{}, camera).empty());
 }
+
+} // namespace tessera_test::scene_default_lights_test

@@ -14,6 +14,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_double_sided_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -216,3 +219,5 @@ TEST_CASE("double-sided: the N.L recorded at a back-face pixel is the geometric 
         }
     }
 }
+
+} // namespace tessera_test::scene_double_sided_test

@@ -21,6 +21,9 @@
 #include <tessera/scene/gltf_loader.h>
 #include <tessera/scene/scene.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_gltf_loader_test {
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace tessera;
@@ -1177,3 +1180,5 @@ TEST_CASE("gltf KHR_lights_punctual: the loader says how many lights are defined
         for (const std::string& w : warnings) CHECK_FALSE(contains(w, "unreferenced"));
     }
 }
+
+} // namespace tessera_test::scene_gltf_loader_test

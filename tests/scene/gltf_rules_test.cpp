@@ -20,6 +20,9 @@
 #include <tessera/scene/gltf_loader.h>
 #include <tessera/techniques/technique.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_gltf_rules_test {
+
 using nlohmann::json;
 using namespace tessera;
 
@@ -430,3 +433,5 @@ TEST_CASE("glTF rules: tangent w = -1 flips the bitangent, generated tangents re
         CHECK(terms == 1);
     }
 }
+
+} // namespace tessera_test::scene_gltf_rules_test

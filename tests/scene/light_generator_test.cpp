@@ -10,6 +10,9 @@
 #include <cstring>
 #include <vector>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_light_generator_test {
+
 using tessera::Bounds;
 using tessera::Light;
 using tessera::LightGeneratorSpec;
@@ -193,3 +196,5 @@ TEST_CASE("generateLights respects pointFraction over 10,000 lights") {
         if (p == 1.0f) CHECK(points == 10000);
     }
 }
+
+} // namespace tessera_test::scene_light_generator_test

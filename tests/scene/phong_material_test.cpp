@@ -4,6 +4,9 @@
 
 #include <doctest/doctest.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_phong_material_test {
+
 using tessera::AlphaMode;
 using tessera::Material;
 using tessera::PhongMaterial;
@@ -171,3 +174,5 @@ TEST_CASE("phongFromGltf: specular power from roughness, metals, emissive and a 
     CHECK_FALSE(m.ambientTexture.present());
     CHECK(equal(m.diffuseColor, {0.0f, 0.0f, 0.0f, 1.0f}));
 }
+
+} // namespace tessera_test::scene_phong_material_test

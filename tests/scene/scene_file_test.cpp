@@ -13,6 +13,9 @@
 #include <set>
 #include <string>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::scene_scene_file_test {
+
 namespace fs = std::filesystem;
 using tessera::CameraSource;
 using tessera::InputError;
@@ -701,3 +704,5 @@ TEST_CASE("near 0: an orthographic glTF camera takes it (glTF 2.0 §5.13 znear >
         CHECK(std::string(e.what()).find("only an orthographic camera may take near 0") != std::string::npos);
     }
 }
+
+} // namespace tessera_test::scene_scene_file_test

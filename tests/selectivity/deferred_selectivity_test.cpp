@@ -10,7 +10,8 @@
 #include <tessera/techniques/cookbook_volumes.h>
 #include <tessera/techniques/light_volumes.h>
 
-namespace tessera::test::selectivity {
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera::test::selectivity::deferred_selectivity_test {
 namespace {
 
 // Room camera at (0, 3, 8) looking at (0, 0.5, 0) (room_scene.h), lights placed so that each
@@ -233,4 +234,4 @@ TEST_CASE("selectivity deferred-cookbook: the tessellated volumes shade every pi
     }
 }
 
-} // namespace tessera::test::selectivity
+} // namespace tessera::test::selectivity::deferred_selectivity_test

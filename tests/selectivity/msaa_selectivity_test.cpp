@@ -8,7 +8,8 @@
 
 #include <tessera/raster/sample_pattern.h>
 
-namespace tessera::test::selectivity {
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera::test::selectivity::msaa_selectivity_test {
 namespace {
 
 enum class Hit { None, Floor, Wall };
@@ -105,4 +106,4 @@ TEST_CASE("selectivity msaa deferred-classic: PR&C's coverage flag shades every 
     }
 }
 
-} // namespace tessera::test::selectivity
+} // namespace tessera::test::selectivity::msaa_selectivity_test

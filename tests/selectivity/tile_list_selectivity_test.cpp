@@ -12,7 +12,8 @@
 
 #include <tessera/techniques/forward_plus_amd.h>
 
-namespace tessera::test::selectivity {
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera::test::selectivity::tile_list_selectivity_test {
 namespace {
 
 // 48 point and 16 spot lights of range 0.4-1.6 scattered over the room's lower part, many of
@@ -220,4 +221,4 @@ TEST_CASE("selectivity forward-plus-amd: every light that reaches a tile's surfa
     checkLists({"forward-plus-amd", 8, {{"shading", "3dgep"}, {"projection", "d3d"}}, true});
 }
 
-} // namespace tessera::test::selectivity
+} // namespace tessera::test::selectivity::tile_list_selectivity_test

@@ -21,6 +21,9 @@
 #include <tessera/scene/light_generator.h>
 #include <tessera/techniques/amd_light_culling.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_amd_light_culling_test {
+
 using namespace tessera;
 
 namespace {
@@ -365,3 +368,5 @@ TEST_CASE("cullTilesAmd over several passes: each result equals its own call (sh
     }
     CHECK(cullTilesAmd(view(s), s.lights, s.inverseProjection, std::span<const AmdCullingOptions>{}).empty());
 }
+
+} // namespace tessera_test::unit_amd_light_culling_test

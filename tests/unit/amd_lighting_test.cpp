@@ -11,6 +11,9 @@
 #include <tessera/scene/light_generator.h>
 #include <tessera/shading/amd_lighting.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_amd_lighting_test {
+
 using namespace tessera;
 
 TEST_CASE("AMD falloff: end points in binary32 and double") {
@@ -178,3 +181,5 @@ TEST_CASE("AMD lighting: binary32 against the double reference over random confi
     MESSAGE("AMD point light: max |binary32 - double| over 5000 cases = " << worst);
     CHECK(worst < 1e-5);
 }
+
+} // namespace tessera_test::unit_amd_lighting_test

@@ -18,6 +18,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_amd_shadows_test {
+
 using namespace tessera;
 using tessera::test::sameBytes;
 
@@ -413,3 +416,5 @@ TEST_CASE("shadow rays: only what the scene asks for, and clear errors") {
     CHECK(errorOf({{"shadowBackfaces", "skip"}}).find("/options/shadowBackfaces") != std::string::npos);
     CHECK(errorOf({{"shadows", "off"}, {"halfZ", true}}).empty());
 }
+
+} // namespace tessera_test::unit_amd_shadows_test

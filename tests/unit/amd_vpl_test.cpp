@@ -16,6 +16,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_amd_vpl_test {
+
 using namespace tessera;
 using tessera::test::sameBytes;
 
@@ -185,3 +188,5 @@ TEST_CASE("vpl: indirect off is forward-plus-amd bit for bit, and the same at 1,
     CHECK(errorOf({{"indirect", "on"}, {"shading", "3dgep"}}).find("/options/indirect") != std::string::npos);
     CHECK(errorOf({{"shading", "3dgep"}}).empty());  // "auto": no VPLs with the 3dgep shader
 }
+
+} // namespace tessera_test::unit_amd_vpl_test

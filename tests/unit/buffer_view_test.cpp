@@ -7,6 +7,9 @@
 #include <tessera/buffers/texel_codec.h>
 #include <tessera/inspect/buffer_view.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_buffer_view_test {
+
 using namespace tessera;
 
 namespace {
@@ -121,3 +124,5 @@ TEST_CASE("buffer view: a G-buffer's alpha alone, and tile light counts averaged
     CHECK(rgbAt(overlay->image, 6, 2) == 0x808080u);  // white heat averaged with black: (0 + 255 + 1) / 2 = 128
     CHECK_FALSE(overlayTileCounts(grid, 8, image));   // 8 px tiles would make a 1x1 grid
 }
+
+} // namespace tessera_test::unit_buffer_view_test

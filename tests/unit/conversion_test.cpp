@@ -12,6 +12,9 @@
 
 #include <tessera/buffers/conversion.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_conversion_test {
+
 using namespace tessera::convert;
 
 namespace {
@@ -492,3 +495,5 @@ TEST_CASE("sRGB: all 256 codes round trip code -> linear -> code") {
         CHECK(linearToSrgb8(srgb8ToLinear(static_cast<std::uint8_t>(k))) == k);
     }
 }
+
+} // namespace tessera_test::unit_conversion_test

@@ -13,6 +13,9 @@
 #include <tessera/buffers/surface.h>
 #include <tessera/gbuffer/cookbook_gbuffer.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_cookbook_gbuffer_test {
+
 using namespace tessera;
 
 namespace {
@@ -118,3 +121,5 @@ TEST_CASE("cookbook gbuffer: linear depth and world position reconstruct project
     }
     CHECK(checked > 100);
 }
+
+} // namespace tessera_test::unit_cookbook_gbuffer_test

@@ -8,6 +8,9 @@
 
 #include <tessera/shading/cookbook_lighting.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_cookbook_lighting_test {
+
 using namespace tessera;
 
 namespace {
@@ -96,3 +99,5 @@ TEST_CASE("cookbook lighting: hemispheric ambient is the lower colour facing dow
     CHECK(lit.x == doctest::Approx(2.0 * std::sqrt(0.5) * 0.5));
     CHECK(lit.z == doctest::Approx(2.0 * std::sqrt(0.5) * 1.0));
 }
+
+} // namespace tessera_test::unit_cookbook_lighting_test

@@ -10,6 +10,9 @@
 
 #include <tessera/techniques/cookbook_volumes.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_cookbook_volumes_test {
+
 using namespace tessera;
 
 namespace {
@@ -156,3 +159,5 @@ TEST_CASE("cookbook volumes: the enlarged volumes contain their light's region, 
         if (d.z >= std::cos(alpha)) CHECK(inside(spot, d, sp.scale));  // the cap
     CHECK(missed > 100);
 }
+
+} // namespace tessera_test::unit_cookbook_volumes_test

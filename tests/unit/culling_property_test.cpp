@@ -19,6 +19,9 @@
 #include <tessera/culling/tile_frustum.h>
 #include <tessera/scene/light_generator.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_culling_property_test {
+
 using namespace tessera;
 
 namespace {
@@ -475,3 +478,5 @@ TEST_CASE("the truth oracles agree with dense sampling: no sampled point of an '
     CHECK(outsideSpheres > 300);
     CHECK(outsideCones > 300);
 }
+
+} // namespace tessera_test::unit_culling_property_test

@@ -13,6 +13,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_deferred_classic_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -207,3 +210,5 @@ TEST_CASE("deferred-classic and light-prepass: light groups light only the geome
     CHECK_THROWS_AS(render(grouped, "deferred-classic", nlohmann::json::object(), r, Precision::Exact, 2, {kWidth, kHeight}, {}, 4),
                     InputError);
 }
+
+} // namespace tessera_test::unit_deferred_classic_test

@@ -12,6 +12,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_deferred_cookbook_test {
+
 using namespace tessera;
 
 namespace {
@@ -177,7 +180,7 @@ TEST_CASE("deferred-cookbook: a capsule light lights the floor along its segment
     CHECK(redder > 200);
     // The volumes still match the quads with a capsule.
     test::Rendered quads;
-    test::render(with, "deferred-cookbook", ::with(corrected(), "lightGeometry", "quads"), quads);
+    test::render(with, "deferred-cookbook", unit_deferred_cookbook_test::with(corrected(), "lightGeometry", "quads"), quads);
     CHECK(test::sameBytes(a.back(), quads.back()));
     // forward, deferred, forward-plus: the capsule changes nothing.
     for (const char* technique : {"forward", "deferred", "forward-plus", "forward-plus-amd", "tiled-deferred"}) {
@@ -201,3 +204,5 @@ TEST_CASE("deferred-cookbook: the same bytes at 1, 2 and 7 threads, every buffer
         CHECK(test::sameBytes(one.get(name), seven.get(name)));
     }
 }
+
+} // namespace tessera_test::unit_deferred_cookbook_test

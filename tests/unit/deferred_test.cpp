@@ -20,6 +20,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_deferred_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -314,3 +317,5 @@ TEST_CASE("deferred: per-light steps: a light's shade pass changes no pixel its 
     // The last step's buffers are the frame's.
     CHECK(std::memcmp(steps.back().back.bytes().data(), r.back().bytes().data(), r.back().bytes().size()) == 0);
 }
+
+} // namespace tessera_test::unit_deferred_test

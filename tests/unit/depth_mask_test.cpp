@@ -18,6 +18,9 @@
 #include <tessera/culling/depth_mask.h>
 #include <tessera/scene/light_generator.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_depth_mask_test {
+
 using namespace tessera;
 
 TEST_CASE("2.5D cells: hand-derived numbers (minZ 0, maxZ 32, pitch 1)") {
@@ -235,3 +238,5 @@ TEST_CASE("property: 2.5D from a real depth buffer through the GPU Pro 4 path is
         }
     }
 }
+
+} // namespace tessera_test::unit_depth_mask_test

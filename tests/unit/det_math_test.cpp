@@ -11,6 +11,9 @@
 
 #include <tessera/math/det_math.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_det_math_test {
+
 using namespace tessera;
 
 namespace {
@@ -201,3 +204,5 @@ TEST_CASE("det_math edge cases follow the HLSL table (pow) and IEEE limits (log2
     CHECK(std::isnan(detSin(-kInfF)));
     CHECK(detCos(0.0174532925f * 60.0f) == doctest::Approx(0.5f).epsilon(1e-7));
 }
+
+} // namespace tessera_test::unit_det_math_test

@@ -14,6 +14,9 @@
 #include <tessera/buffers/texel_codec.h>
 #include <tessera/state/depth_stencil_state.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_fill_test {
+
 using namespace tessera;
 
 TEST_CASE("maskedFill equals maskedFillScalar for every texel size, odd lengths and random masks") {
@@ -117,3 +120,5 @@ TEST_CASE("a stencil clear with a write mask changes only the mask's bits, as a 
         CHECK(same);
     }
 }
+
+} // namespace tessera_test::unit_fill_test

@@ -17,6 +17,9 @@
 #include <tessera/buffers/format.h>
 #include <tessera/buffers/texel_codec.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_format_test {
+
 using tessera::Format;
 using tessera::FormatKind;
 
@@ -261,3 +264,5 @@ TEST_CASE("texel codec: stored bytes -> value -> bytes is the identity (§19.1.2
         CHECK(bad == 0);
     }
 }
+
+} // namespace tessera_test::unit_format_test

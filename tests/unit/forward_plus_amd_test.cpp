@@ -21,6 +21,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_forward_plus_amd_test {
+
 using namespace tessera;
 
 namespace {
@@ -166,3 +169,5 @@ TEST_CASE("forward-plus-amd: the spot bounding sphere holds the lit sector and i
     CHECK(spotBoundingSphere(5.0f, 60.0f).radius == doctest::Approx(4.3301270).epsilon(1e-6));
     CHECK(spotBoundingSphere(5.0f, 60.0f).centerOffset == doctest::Approx(2.5).epsilon(1e-6));
 }
+
+} // namespace tessera_test::unit_forward_plus_amd_test

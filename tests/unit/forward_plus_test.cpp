@@ -17,6 +17,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_forward_plus_test {
+
 using namespace tessera;
 
 namespace {
@@ -268,3 +271,5 @@ TEST_CASE("forward-plus: heat-map gradient: 1-10 lights blue, 20-30 green, 50 an
     CHECK(forwardPlusHeatMapColor(50) == glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));  // t = 4.5, clamped to red
     CHECK(forwardPlusHeatMapColor(5000) == glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
 }
+
+} // namespace tessera_test::unit_forward_plus_test

@@ -13,6 +13,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_forward_test {
+
 using namespace tessera;
 
 namespace {
@@ -106,3 +109,5 @@ TEST_CASE("forward: variants are counted per draw, reference adds backbuffer.ref
     CHECK(ref.load(8, 8).x == float(double(0.1f) * 1.0));
     CHECK(reference.registry.get("backbuffer").load(8, 8) == exact.registry.get("backbuffer").load(8, 8));
 }
+
+} // namespace tessera_test::unit_forward_test

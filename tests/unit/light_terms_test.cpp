@@ -16,6 +16,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_light_terms_test {
+
 using namespace tessera;
 
 namespace {
@@ -192,3 +195,5 @@ TEST_CASE("light terms: in whole frames the watched pixel's inputs sit on its ra
     for (const auto& [pixel, lights] : contributing) lightsSeen += int(lights.size());
     CHECK(lightsSeen >= 6);  // the pixels are lit: the comparison above is not of empty sets
 }
+
+} // namespace tessera_test::unit_light_terms_test

@@ -11,6 +11,9 @@
 
 #include <tessera/techniques/light_volumes.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_light_volumes_test {
+
 using namespace tessera;
 
 namespace {
@@ -254,3 +257,5 @@ TEST_CASE("quaternion from +Z to the light direction, including the antiparallel
     CHECK(glm::length(rotationBetween(z, almost, VolumeRotation::Glm096) * z - almost) < 1e-3f);
     CHECK(glm::length(rotationBetween(z, almost, VolumeRotation::Robust) * z - almost) < 1e-3f);
 }
+
+} // namespace tessera_test::unit_light_volumes_test

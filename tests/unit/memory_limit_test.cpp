@@ -8,6 +8,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_memory_limit_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -94,3 +97,5 @@ TEST_CASE("memory: a 16384x16384 deferred frame with float G-buffer targets is e
     CHECK(e.bytesPerPixel == doctest::Approx(84.0));
     CHECK(e.bytes == doctest::Approx(84.0 * 16384.0 * 16384.0).epsilon(1e-4));
 }
+
+} // namespace tessera_test::unit_memory_limit_test

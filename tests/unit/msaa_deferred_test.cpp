@@ -23,6 +23,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_msaa_deferred_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -407,3 +410,5 @@ TEST_CASE("msaa forward+: with every sample in the tile bounds, forward-plus and
         CHECK(sameBytes(forward.get(backBufferTarget(samples)), amd.get(backBufferTarget(samples))));
     }
 }
+
+} // namespace tessera_test::unit_msaa_deferred_test

@@ -14,6 +14,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_option_catalog_test {
+
 using namespace tessera;
 
 namespace {
@@ -185,3 +188,5 @@ TEST_CASE("technique registry: every pass of every option value, sample count an
         CHECK(seen.count(pass) == 1);
     }
 }
+
+} // namespace tessera_test::unit_option_catalog_test

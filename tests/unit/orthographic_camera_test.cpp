@@ -12,6 +12,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_orthographic_camera_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -157,3 +160,5 @@ TEST_CASE("near 0 is refused for a perspective camera, with the reason") {
     CHECK_THROWS_WITH_AS(render(t, "forward", nlohmann::json::object(), r),
                          doctest::Contains("only an orthographic camera may take near 0"), InputError);
 }
+
+} // namespace tessera_test::unit_orthographic_camera_test

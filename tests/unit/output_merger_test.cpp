@@ -10,6 +10,9 @@
 #include <tessera/buffers/texel_codec.h>
 #include <tessera/raster/output_merger.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_output_merger_test {
+
 using namespace tessera;
 
 namespace {
@@ -233,3 +236,5 @@ TEST_CASE("UINT targets take the bit pattern and honour the write mask") {
     CHECK(got.x == 7u);
     CHECK(got.y == 0x12345678u);
 }
+
+} // namespace tessera_test::unit_output_merger_test

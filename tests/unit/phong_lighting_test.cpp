@@ -12,6 +12,9 @@
 
 #include <tessera/shading/phong_lighting.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_phong_lighting_test {
+
 using namespace tessera;
 
 namespace {
@@ -208,3 +211,5 @@ TEST_CASE("hlsl::normalize: where dot(v, v) over- or underflows, the power-of-tw
         CHECK(std::memcmp(&got, &plain, sizeof(got)) == 0);
     }
 }
+
+} // namespace tessera_test::unit_phong_lighting_test

@@ -8,6 +8,9 @@
 
 #include <tessera/shading/phong_material_shader.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_phong_material_shader_test {
+
 using namespace tessera;
 
 namespace {
@@ -192,3 +195,5 @@ TEST_CASE("shader variants: chosen per material, specialized or generic, same bi
     const glm::vec4 generic = shade(kPhongAmbientTexture | kPhongDiffuseTexture | kPhongSpecularTexture, d, pixel());
     CHECK(specialized == generic);
 }
+
+} // namespace tessera_test::unit_phong_material_shader_test

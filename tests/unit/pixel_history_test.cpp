@@ -11,6 +11,9 @@
 
 #include "support/room_scene.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_pixel_history_test {
+
 using namespace tessera;
 
 TEST_CASE("pixel history: for every technique the last recorded value of each buffer is the final buffer's, in pass order") {
@@ -76,3 +79,5 @@ TEST_CASE("pixel history: for every technique the last recorded value of each bu
     CHECK(pixelsChecked == 7 * 6);
     CHECK(tiled == 3 * 6);  // forward-plus, forward-plus-amd and tiled-deferred have light lists per tile
 }
+
+} // namespace tessera_test::unit_pixel_history_test

@@ -9,6 +9,9 @@
 #include <tessera/culling/frustum.h>
 #include <tessera/culling/plane.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_plane_test {
+
 using namespace tessera;
 
 namespace {
@@ -161,3 +164,5 @@ TEST_CASE("coneInsideFrustum: near {(0,0,-1), -zNear} and far {(0,0,1), zFar} pl
     CHECK(coneInsideFrustum(into, f, -1.0f, -10.0f));
     CHECK(coneInsideFrustumCorrected(into, f, -1.0f, -10.0f));
 }
+
+} // namespace tessera_test::unit_plane_test

@@ -13,6 +13,9 @@
 #include <tessera/gbuffer/prc_gbuffer.h>
 #include <tessera/shading/prc_lighting.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_prc_gbuffer_test {
+
 using namespace tessera;
 
 TEST_CASE("prc gbuffer: the sphere-map codec of Listing 11.8, worked values, round trip and NaN at the poles") {
@@ -270,3 +273,5 @@ TEST_CASE("prc gbuffer: the four position reconstructions of §11.4.1 rebuild th
     }
     CHECK(checked > 100);
 }
+
+} // namespace tessera_test::unit_prc_gbuffer_test

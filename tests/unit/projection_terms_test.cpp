@@ -11,6 +11,9 @@
 #include <tessera/math/projection_terms.h>
 #include <tessera/techniques/forward.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_projection_terms_test {
+
 using namespace tessera;
 
 namespace {
@@ -67,3 +70,5 @@ TEST_CASE("projection3dgep at world scale 1e20 and 1e-20: every element and the 
         }
     }
 }
+
+} // namespace tessera_test::unit_projection_terms_test

@@ -13,6 +13,9 @@
 #include <tessera/buffers/conversion.h>
 #include <tessera/gbuffer/screen_to_view.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_screen_to_view_test {
+
 using namespace tessera;
 
 namespace {
@@ -215,3 +218,5 @@ TEST_CASE("the faithful corner sample displaces P by half a pixel's footprint at
         }
     }
 }
+
+} // namespace tessera_test::unit_screen_to_view_test

@@ -10,6 +10,9 @@
 #include <tessera/buffers/surface.h>
 #include <tessera/gbuffer/specular_power_packing.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_specular_power_packing_test {
+
 using namespace tessera;
 
 namespace {
@@ -117,3 +120,5 @@ TEST_CASE("specular power: powers above 2^10.5 saturate to code 255 = 1448.15") 
         CHECK(roundTripSpecularPower(p) == unpackSpecularPower(1.0f));
     }
 }
+
+} // namespace tessera_test::unit_specular_power_packing_test

@@ -17,6 +17,9 @@
 #include <tessera/texture/sampling.h>
 #include <tessera/texture/texture2d.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_texture_test {
+
 using namespace tessera;
 
 namespace {
@@ -484,3 +487,5 @@ TEST_CASE("texture: bad images throw InputError naming their source") {
     // The largest legal size is accepted.
     CHECK_NOTHROW((void)Texture2D::fromImage(makeImage(16384, 1, std::vector<std::uint8_t>(16384 * 4)), TexelEncoding::Linear));
 }
+
+} // namespace tessera_test::unit_texture_test

@@ -16,6 +16,9 @@
 
 #include "support/unit_projections.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_tile_depth_range_test {
+
 using namespace tessera;
 namespace tc = tessera::compute;
 
@@ -199,3 +202,5 @@ TEST_CASE("Intel 2010: viewZ = _43 / (z - _33), valid near <= z < far, out-of-ra
     CHECK(whole.minValue() == zHalf);
     CHECK(whole.maxValue() == zHalf);
 }
+
+} // namespace tessera_test::unit_tile_depth_range_test

@@ -13,6 +13,9 @@
 
 #include "support/unit_projections.h"
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_tile_frustum_test {
+
 using namespace tessera;
 
 namespace {
@@ -298,3 +301,5 @@ TEST_CASE("plane normals: corners 1e-21 from the eye underflow normalize(cross) 
     const glm::vec3 big = cullmath::unitCross(a * 1e20f * 1e20f, b * 1e20f * 1e20f);
     CHECK(big.x == doctest::Approx(expected.x).epsilon(1e-6));
 }
+
+} // namespace tessera_test::unit_tile_frustum_test

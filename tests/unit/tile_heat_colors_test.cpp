@@ -8,6 +8,9 @@
 
 #include <tessera/shading/tile_heat_colors.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_tile_heat_colors_test {
+
 using namespace tessera;
 
 TEST_CASE("radar colours: band breakpoints for max = 256") {
@@ -74,3 +77,5 @@ TEST_CASE("grayscale view: count / max") {
     CHECK(amdGrayscaleColor(512, 256).x == 2.0f);
     CHECK(rgba8FromColor(amdGrayscaleColor(512, 256)) == 0xFFFFFFFFu);
 }
+
+} // namespace tessera_test::unit_tile_heat_colors_test

@@ -18,6 +18,9 @@
 #include "support/room_scene.h"
 #include <tessera/techniques/tiled_deferred.h>
 
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::unit_tiled_deferred_test {
+
 using namespace tessera;
 using namespace tessera::test;
 
@@ -268,3 +271,5 @@ TEST_CASE("tiled-deferred: option values are InputErrors naming the key path, an
         CHECK((r.registry.find(kReferenceBufferName) != nullptr) == (p == Precision::Reference));
     }
 }
+
+} // namespace tessera_test::unit_tiled_deferred_test
