@@ -143,7 +143,7 @@ struct GlobalList {
 //    |c| + r + |d_plane|, as the binning's) is far above the rounding of the exact test's floats.
 //    Otherwise the exact ConeInsidePlane runs.
 // tests/golden/forward_plus_scenes_test.cpp (binned = brute, which runs the kernel with
-// coneInsideFrustum itself) and tests/unit/forward_plus_test.cpp check the bytes.
+// coneInsideFrustum itself) and tests/techniques/forward_plus_test.cpp check the bytes.
 struct SpotCullTerms {
     bool nearCulls = false;          // ConeInsidePlane(cone, nearPlane): culled on every tile
     float dotTFar = 0.0f, dotQFar = 0.0f;  // dot((0, 0, 1), T), dot((0, 0, 1), Q)

@@ -111,7 +111,7 @@ SpotCullTerms spotCullTerms(const Cone& cone, const BoundingSphere& bound, bool 
 
 // ----- Tessera's row-parallel culling ("culling": "binned") --------------------------------------
 // The same tests in the same order as CullLightsKernel, so the same lists, grids and counters
-// ("culling": "brute" runs the kernel over every light; tests/unit/forward_plus_test.cpp and
+// ("culling": "brute" runs the kernel over every light; tests/techniques/forward_plus_test.cpp and
 // tests/golden/forward_plus_scenes_test.cpp compare the two), organised for a CPU:
 //  1. per tile, CS_main's depth range from the D24 codes: the min / max of asuint over the
 //     decoded floats is the decode of the min / max code, because d24ToDepth is a correctly

@@ -529,7 +529,7 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
 TEST_CASE("cli: renders that would pass the memory limit are refused before allocating, with exit 2 and nothing written") {
     const auto out = scratch("too-big.png");
     std::filesystem::remove(out);
-    // deferred, float G-buffer: 84 B per pixel (tests/unit/memory_limit_test.cpp) x 16384^2 = 21 GiB.
+    // deferred, float G-buffer: 84 B per pixel (tests/frame/memory_limit_test.cpp) x 16384^2 = 21 GiB.
     const Run d = run("render default --technique deferred --option gbuffer=float --width 16384 --height 16384 --memory-limit 4 --out " +
                       out.string());
     INFO(d.output);

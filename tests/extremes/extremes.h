@@ -26,7 +26,7 @@ namespace tessera::test::extremes {
 
 // Options under which a technique's image must equal forward's {projection: d3d} bit for bit when
 // its culling (tile lists, light volumes and stencil marking) keeps every light that reaches a
-// pixel: the lights it leaves out add exactly 0 in forward (tests/unit: forward_plus_test,
+// pixel: the lights it leaves out add exactly 0 in forward (tests/techniques: forward_plus_test,
 // tiled_deferred_test, deferred_test derive each equality).
 struct Equality {
     std::string technique;

@@ -188,7 +188,7 @@ TEST_CASE("forward-plus scenes: 1024 small lights in Sponza, every light that re
 TEST_CASE("forward-plus scenes: the article's cone test (coneTest demo) drops no light here") {
     // ERRATUM (culling/plane.h coneInsidePlane): m = cross(cross(N, d), d) is not normalized, so Q
     // falls short of the cone's rim and a cone that reaches into a tile can be culled
-    // (tests/unit/culling_property_test.cpp). Measured on these scenes: it never happens, so the
+    // (tests/culling/culling_property_test.cpp). Measured on these scenes: it never happens, so the
     // faithful default equals forward as well. Missing lights and differing pixels must agree.
     for (const std::string scene : {"default", "sponza-large-lights", "sponza-small-lights@1024"}) {
         CAPTURE(scene);

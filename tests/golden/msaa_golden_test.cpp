@@ -1,7 +1,7 @@
 // Golden images of the default scene through every technique at 4x MSAA (320x180, the techniques'
 // default options, 1 and 2 threads must give the same resolved and multisampled bytes). The
 // per-sample properties these images rest on are tested against ray-cast truth in
-// tests/unit/msaa_deferred_test.cpp; these pin the whole frames. Every bundled scene through every
+// tests/techniques/msaa_deferred_test.cpp; these pin the whole frames. Every bundled scene through every
 // technique at 2x (the Sponza scenes with 16 generated lights) checks that MSAA works everywhere.
 #include "support/bundled_scene.h"
 

@@ -172,7 +172,7 @@ TEST_CASE("selectivity deferred-classic: quads shade every pixel, the scissor an
         // conservative (the sphere's left, right, top and bottom points pushed towards the eye by
         // the radius before projection, wider than the tangent planes): no pixel outside it may be
         // shaded. The rectangle is recomputed here from the light (prc_gbuffer.h, unit-tested
-        // against hand values in tests/unit/prc_gbuffer_test.cpp) with one pixel of slack for
+        // against hand values in tests/gbuffer/prc_gbuffer_test.cpp) with one pixel of slack for
         // this matrix's float rounding against the technique's; shaded pixels outside the sphere
         // are reported as conservative extra.
         if (c.light.type == LightType::Point && name.find("outside") != std::string::npos) {

@@ -66,7 +66,7 @@ float float10ToFloat(std::uint32_t v);
 // allowed). tessera returns the exact result of that rule on the real-valued curve (decimal
 // constants): the code is the number of the 255 decision thresholds t_k <= linear, where t_k is
 // the smallest float whose ideal sRGB value reaches (k - 0.5)/255. The literal threshold table
-// is regenerated in long double by tests/unit/conversion_test.cpp (closest float lies 2.2e-9
+// is regenerated in long double by tests/buffers/conversion_test.cpp (closest float lies 2.2e-9
 // code units from a decision boundary, far beyond the long double error).
 std::uint8_t linearToSrgb8(float linear);
 // §3.2.3.7: c = code/255; c <= 0.04045 ? c/12.92 : ((c + 0.055)/1.055)^2.4 (0.5 ULP tolerance

@@ -13,7 +13,7 @@ namespace tessera {
 // bytes.size() is not a multiple of texelBytes.
 void maskedFill(std::span<std::byte> bytes, const std::byte* keep, const std::byte* set, std::uint32_t texelBytes);
 
-// The same result one texel at a time: the oracle of tests/unit/fill_test.cpp.
+// The same result one texel at a time: the oracle of tests/buffers/fill_test.cpp.
 void maskedFillScalar(std::span<std::byte> bytes, const std::byte* keep, const std::byte* set, std::uint32_t texelBytes);
 
 } // namespace tessera

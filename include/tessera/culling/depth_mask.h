@@ -2,7 +2,7 @@
 // occupancy mask per tile built from its pixels' view z, a light's depth extent as a mask, keep
 // iff the AND is non-zero) and TiledLighting11's half-Z split (two depth ranges per tile split at
 // the midpoint, TiledLighting11 DoLightCulling). Callers: the forward-plus-amd culling kernel
-// (techniques/amd_light_culling.h) and tests/unit/depth_mask_test.cpp.
+// (techniques/amd_light_culling.h) and tests/culling/depth_mask_test.cpp.
 #pragma once
 
 #include <cstdint>

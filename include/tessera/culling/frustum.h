@@ -51,7 +51,7 @@ inline bool coneInsideFrustum(const Cone& cone, const Frustum& frustum, float zN
 
 // CORRECTED ConeInsideFrustum (tessera): the same structure with coneInsidePlaneCorrected.
 // Conservative: it never reports "outside" for a cone that intersects the frustum (beyond
-// rounding); see tests/unit/culling_property_test.cpp.
+// rounding); see tests/culling/culling_property_test.cpp.
 inline bool coneInsideFrustumCorrected(const Cone& cone, const Frustum& frustum, float zNear, float zFar) {
     bool result = true;
     if (coneInsidePlaneCorrected(cone, nearPlane3dgep(zNear)) || coneInsidePlaneCorrected(cone, farPlane3dgep(zFar)))

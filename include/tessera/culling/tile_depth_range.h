@@ -40,7 +40,7 @@ struct TileDepthBits {
 // Every kernel below runs one group of tileSize x tileSize threads per tile, one pixel each, and
 // only commutative uint min/max reach the shared values, so a plain loop over the tile's pixels
 // gives the bits any thread order gives (checked against compute::dispatch in
-// tests/unit/tile_depth_range_test.cpp). groupId: SV_GroupID.xy (tile column, row from the top).
+// tests/culling/tile_depth_range_test.cpp). groupId: SV_GroupID.xy (tile column, row from the top).
 namespace tiledepth_detail {
 
 template <class ValueFn>
@@ -147,7 +147,7 @@ inline TileDepthBits tileViewZBitsAmdForwardPlus11(const DepthImageView& image, 
 // Edge tiles: the G-buffer load past the screen returns zBuffer = 0. With the sample's
 // complementary Z (SetProjParams(pi/4, aspect, 300, 0.05), mCameraNearFar = (0.05, 300)) depth
 // 0 gives _43 / (0 - _33) = 300.0f exactly in binary32, which fails `< far`: off-screen threads
-// are invalid and edge tiles are bounded by their own pixels (tests/unit/tile_depth_range_test.cpp).
+// are invalid and edge tiles are bounded by their own pixels (tests/culling/tile_depth_range_test.cpp).
 // With another projection the rounded value could land below far and enter the maximum.
 inline TileDepthBits tileViewZBitsIntel(const DepthImageView& image, glm::uvec2 groupId, std::uint32_t tileDim,
                                         const glm::mat4& projection, float cameraNear, float cameraFar) {

@@ -151,7 +151,7 @@ inline bool sphereOverlapsTileAmd(const glm::vec3& posView, float radius, const 
 //   c1 = (_11 * tileScale.x, 0, tileBias.x, 0); c2 = (0, -_22 * tileScale.y, tileBias.y, 0); c4 = (0, 0, 1, 0)
 // In view space dot(c1, p) = z (tx - gx) with tx = (x_ndc + 1) * tileScale.x the position in tile
 // units from the left, and dot(c2, p) = z (ty - gy) with ty = (1 - y_ndc) * tileScale.y from the
-// top (derived from c1 and c2; tests/unit/tile_frustum_test.cpp), so tile g is tx in [g, g + 1].
+// top (derived from c1 and c2; tests/culling/tile_frustum_test.cpp), so tile g is tx in [g, g + 1].
 struct IntelTileColumns {
     glm::vec2 tileScale{0.0f};  // tiles per half screen (600 px / (2 * 10 px) = 30 in the note's example)
     glm::vec2 tileBias{0.0f};   // tileScale - groupId

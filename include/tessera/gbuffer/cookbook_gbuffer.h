@@ -2,7 +2,7 @@
 // "GBuffer generation" and "GBuffer unpacking"): specular power packed linearly over
 // g_SpecPowerRange = {0.1, 250}, the normal stored as n * 0.5 + 0.5, linear depth from
 // PerspectiveValues and the world position from it. Left-handed view space (+z forward) and
-// row-vector matrices as the book; tests/unit/cookbook_gbuffer_test.cpp checks each against
+// row-vector matrices as the book; tests/gbuffer/cookbook_gbuffer_test.cpp checks each against
 // geometric truth and the book's worked values.
 #pragma once
 

@@ -3,7 +3,7 @@
 // normal (Eq. 11.3), linear depth from the hardware depth with ProjectionA / ProjectionB (Listing
 // 11.12) and the point light's scissor rectangle (Listing 11.14). Left-handed view space (+z
 // forward) as the chapter; float, in the listings' operation order. Tested against values worked
-// from the printed code in tests/unit/prc_gbuffer_test.cpp; the building blocks of the planned
+// from the printed code in tests/gbuffer/prc_gbuffer_test.cpp; the building blocks of the planned
 // `deferred-classic` and `light-prepass` techniques.
 #pragma once
 
@@ -15,7 +15,7 @@ namespace tessera {
 
 // SpheremapEncode: normalize(n.xy) * sqrt(-n.z * 0.5 + 0.5). The result lies in the unit disc
 // (|e|^2 = (1 - n.z) / 2). n = (0, 0, +-1) normalizes (0, 0): NaN (as the HLSL would; the
-// chapter does not handle it, tests/unit/prc_gbuffer_test.cpp shows it).
+// chapter does not handle it, tests/gbuffer/prc_gbuffer_test.cpp shows it).
 glm::vec2 prcSpheremapEncode(const glm::vec3& normal);
 // The same encoding defined at the poles (ERRATA #29): n.xy = 0 encodes as (0, 0) for z > 0 and
 // (1, 0) for z < 0 (|e| = 1 is the whole circle for z = -1; any point on it decodes to (0, 0, -1)).

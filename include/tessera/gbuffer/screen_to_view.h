@@ -39,7 +39,7 @@ glm::vec2 samplePointWindow(std::uint32_t pxX, std::uint32_t pxY, PixelSamplePoi
 // screenToView(float4(samplePointWindow(x, y, samplePoint), depth, 1)).
 // The faithful Corner point lies half a pixel up and left of the centre the G-buffer was
 // rasterized at; at view distance d (= -z_view) P moves by -d / (W * P[0][0]) in view x and
-// +d / (H * P[1][1]) in view y, z unchanged (P = the projection; tests/unit/screen_to_view_test.cpp).
+// +d / (H * P[1][1]) in view y, z unchanged (P = the projection; tests/gbuffer/screen_to_view_test.cpp).
 glm::vec4 reconstructPositionView(std::uint32_t pxX, std::uint32_t pxY, float depth,
                                   const glm::vec2& screenDimensions, const glm::mat4& inverseProjection,
                                   PixelSamplePoint samplePoint);

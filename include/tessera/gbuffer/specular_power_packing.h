@@ -1,7 +1,7 @@
 // Specular power in the 3dgep G-buffer (3dgep article §3.1.1.4, "Killzone 2 method"): the specular
 // target's alpha stores log2(p)/10.5, the R8G8B8A8_UNORM target quantizes it to 8 bits, and the
 // lighting pass unpacks exp2(a * 10.5). Called by the deferred G-buffer and lighting shaders;
-// tests/unit/specular_power_packing_test.cpp checks the round trip's error bound.
+// tests/gbuffer/specular_power_packing_test.cpp checks the round trip's error bound.
 #pragma once
 
 #include <cstdint>

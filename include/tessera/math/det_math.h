@@ -1,7 +1,7 @@
 // Deterministic transcendental functions (tessera's floating-point rule: results that reach an image
 // must not depend on the libm or compiler). Built only from IEEE +, -, *, /, bit casts and fixed
 // polynomials evaluated in double in a fixed order (the project compiles with -ffp-contract=off).
-// Float versions are within 1 ulp of the correctly rounded result (tests/unit/det_math_test.cpp).
+// Float versions are within 1 ulp of the correctly rounded result (tests/math/det_math_test.cpp).
 #pragma once
 
 #include <bit>

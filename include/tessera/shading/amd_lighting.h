@@ -66,7 +66,7 @@ struct AmdLightingResult {
 // 0 at x = 1 in real arithmetic. In binary32 the literals round (0.05f = 0.0500000007,
 // 1.05f = 1.04999995): the value at x = 0 is 1 - 2^-24 and at x = 1 it is -2^-28. x = 1 is the
 // only float in [0, 1] where it is negative, and the shader never evaluates it there: it runs
-// only for distance < radius, and then distance / radius <= 1 - 2^-24 (tests/unit/amd_lighting_test.cpp).
+// only for distance < radius, and then distance / radius <= 1 - 2^-24 (tests/shading/amd_lighting_test.cpp).
 template <class T>
 T amdFalloff(T x) {
     return T(-0.05) + T(1.05) / (T(1) + T(20) * x * x);

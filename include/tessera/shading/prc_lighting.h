@@ -4,7 +4,7 @@
 // times N.L), the light pre-pass light buffer (Listing 11.5: diffuse RGB, monochrome specular in A)
 // and its final geometry pass (Listing 11.6). World space, generic over the scalar. `normalizeV`
 // false is the listings' unnormalized V (H = normalize(L + V) with |V| the eye distance, the
-// chapter's Eq. 11.1 intends a unit V); tests/unit/prc_gbuffer_test.cpp ("prc lighting: ...") checks the worked values.
+// chapter's Eq. 11.1 intends a unit V); tests/gbuffer/prc_gbuffer_test.cpp ("prc lighting: ...") checks the worked values.
 #pragma once
 
 #include <tessera/scene/light.h>

@@ -41,7 +41,7 @@ inline constexpr glm::vec4 kAmdRadarNone{0.0f, 0.0f, 0.0f, 1.0f};         // "bl
 //   nColorIndex = floor(log2((float)count) / log2(fLogBase))
 // log2 / exp2 are tessera's deterministic ones (math/det_math.h; HLSL leaves their precision to
 // the hardware). 0.07142857f is a hair below 1/14, so b is a hair small and the index runs a hair
-// high; it stays <= 13 for every count < max <= 65536 (tests/unit/tile_heat_colors_test.cpp).
+// high; it stays <= 13 for every count < max <= 65536 (tests/shading/tile_heat_colors_test.cpp).
 // Returns 14 if it ever did not (the shader would index past the array).
 inline std::uint32_t amdRadarColorIndex(std::uint32_t count, std::uint32_t maxPerTile) {
     const float logBase = detExp2(0.07142857f * detLog2(static_cast<float>(maxPerTile)));

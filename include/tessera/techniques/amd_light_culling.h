@@ -44,7 +44,7 @@ enum class AmdDepthRange : std::uint8_t {
 };
 
 // Which lights each tile's strided loop visits. Both give the same bytes: the binned loop skips
-// only lights whose side-plane test fails on that tile (tests/unit/amd_light_culling_test.cpp
+// only lights whose side-plane test fails on that tile (tests/techniques/amd_light_culling_test.cpp
 // "binned and all-lights loops give the same bytes").
 enum class AmdLightLoop : std::uint8_t {
     AllLights,  // GPU Pro 4 §5.3.1 as written: every tile tests every light (14,400 tiles x N at 720p)

@@ -4,7 +4,7 @@
 // capsule and spot 12), every domain point (u, v) = (i, j) / factor mapped by the recipe's domain
 // shader, in float and in the shader's operation order. Local space is left-handed like the book's
 // (point: view axes; spot: +z along the light, apex at the origin; capsule: +z along the segment,
-// centre at the origin). tests/unit/cookbook_volumes_test.cpp checks vertices against the formulas'
+// centre at the origin). tests/techniques/cookbook_volumes_test.cpp checks vertices against the formulas'
 // worked values, the winding, and that each volume contains its light's region.
 #pragma once
 

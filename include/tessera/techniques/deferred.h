@@ -44,7 +44,7 @@ namespace tessera {
 //       only when its count query passed more than `threshold` samples.
 // With projection d3d, gbuffer float, position gbuffer, accumulate lighting and circumscribed
 // volumes, the image equals forward's (projection d3d) bit for bit on opaque scenes whose light
-// volumes do not cross the near plane (tests/unit/deferred_test.cpp).
+// volumes do not cross the near plane (tests/techniques/deferred_test.cpp).
 // What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
 inline constexpr std::array<PassCaption, 5> kDeferredPassCaptions{{
     {"gbuffer", "The G-buffer pass: diffuse, specular with the packed specular power, view-space normal and depth, no "

@@ -39,7 +39,7 @@ namespace tessera {
 //       companion code's exact range, whose flat faces cut inside the sphere.
 //   "lightGeometry": "volumes" | "quads"   volumes: the recipes; quads: every light as the
 //       full-screen quad (the baseline the volumes save work against: with conservative volumes,
-//       stencil and the pixel's cpPos the two images are equal bit for bit, tests/unit/deferred_cookbook_test.cpp).
+//       stencil and the pixel's cpPos the two images are equal bit for bit, tests/techniques/deferred_cookbook_test.cpp).
 //   "sampler", "alphaTest": as forward (the transparent pass).
 // What each pass does (TechniqueInfo::passes; "clear", "edges", "transparent", "resolve" are shared).
 inline constexpr std::array<PassCaption, 3> kDeferredCookbookPassCaptions{{

@@ -112,7 +112,7 @@ Frame buildForwardPlusAmd(const TechniqueContext& context);
 
 // The smallest sphere around a spot light's lit region: the spherical sector of radius R (the
 // range) and half angle theta about the axis, apex at the light. Centre on the axis at distance
-// `centerOffset` from the apex. Derivation (tests/unit/forward_plus_amd_test.cpp checks it against
+// `centerOffset` from the apex. Derivation (tests/techniques/forward_plus_amd_test.cpp checks it against
 // sampled sector points): a sphere centred at distance h on the axis must reach the apex (h) and
 // the rim circle (distance^2 = R^2 + h^2 - 2 R h cos(theta)); every other sector point is nearer
 // (for points at range R the distance grows with the angle to the axis, up to theta; along a

@@ -1,0 +1,192 @@
+// The option catalogue (techniques/option_catalog.h) against the parsers: for every implemented
+// technique the catalogue lists exactly the keys the technique accepts, every value it lists
+// (and the faithful default and the correction) builds, and values it does not list are rejected
+// by both the catalogue and the technique, naming /options/KEY.
+#include <doctest/doctest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <tessera/errors/input_error.h>
+#include <tessera/techniques/option_catalog.h>
+#include <tessera/techniques/technique.h>
+
+#include "support/room_scene.h"
+
+// One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
+namespace tessera_test::techniques_option_catalog_test {
+
+using namespace tessera;
+
+namespace {
+
+// One triangle lit by a shadow-casting point light and an indirect spot light, so that every
+// option value of forward-plus-amd's shadows and VPLs (including "on") has something to act on.
+Scene catalogueScene() {
+    Scene scene = test::oneTriangle(-2.0f);
+    Light point = test::makeLight(LightType::Point, {0.0f, 0.0f, -1.0f}, {0, 0, -1}, 5.0f, glm::vec3(1.0f));
+    point.castsShadows = true;
+    Light spot = test::makeLight(LightType::Spot, {0.0f, 0.0f, 0.0f}, {0, 0, -1}, 5.0f, glm::vec3(1.0f));
+    spot.indirect = true;
+    scene.lights = {point, spot};
+    return scene;
+}
+
+// A 16x16 px frame of catalogueScene() on `device` with these options.
+TechniqueContext catalogueContext(Device& device, const nlohmann::json& options) {
+    static const Scene scene = catalogueScene();
+    static const SceneResources resources(scene);
+    TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.width = 16;
+    ctx.height = 16;
+    ctx.options = options;
+    ctx.sceneFile = "memory.json";
+    return ctx;
+}
+
+// "" when the technique builds and renders with these options, else the InputError's text.
+std::string buildError(std::string_view technique, const nlohmann::json& options) {
+    Device device(DeviceConfig{64, 1});
+    const TechniqueContext ctx = catalogueContext(device, options);
+    try {
+        BufferRegistry registry;
+        buildTechnique(technique, ctx, ctx.sceneFile).run(registry);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// The JSON values an option's catalogue entry says are valid.
+std::vector<nlohmann::json> listedValues(const OptionInfo& o) {
+    std::vector<nlohmann::json> values;
+    for (const std::string_view v : o.values) {
+        if (o.kind == OptionInfo::Kind::Bool) values.push_back(v == "true");
+        else if (o.kind == OptionInfo::Kind::Integer) values.push_back(std::stoll(std::string(v)));
+        else values.push_back(std::string(v));
+    }
+    if (o.kind == OptionInfo::Kind::Number) {  // both ends of the closed range and its middle
+        values.push_back(o.minNumber);
+        values.push_back(o.maxNumber);
+        values.push_back(0.5 * (o.minNumber + o.maxNumber));
+    }
+    if (o.minInteger >= 0) {
+        values.push_back(o.minInteger);
+        values.push_back(o.minInteger + 7);
+    }
+    return values;
+}
+
+} // namespace
+
+TEST_CASE("option catalogue: every implemented technique's keys, values, defaults and corrections build") {
+    int techniquesChecked = 0, valuesChecked = 0;
+    for (const TechniqueInfo& t : techniques()) {
+        if (!t.build) continue;
+        ++techniquesChecked;
+        CAPTURE(t.id);
+        // The registry's options are the catalogue's table, each key once.
+        std::set<std::string> catalogued;
+        for (const OptionInfo& o : techniqueOptions(t.id)) CHECK(catalogued.insert(std::string(o.key)).second);
+        CHECK(techniqueOptions(t.id).data() == builtinOptionCatalog(t.id).data());
+        CHECK(buildError(t.id, {{"noSuchOption", 1}}).find("/options/noSuchOption") != std::string::npos);
+        for (const OptionInfo& o : techniqueOptions(t.id)) {
+            CAPTURE(o.key);
+            CHECK(!o.meaning.empty());
+            CHECK(!o.faithful.empty());
+            for (const nlohmann::json& value : listedValues(o)) {
+                CAPTURE(value.dump());
+                CHECK(!optionValueProblem(o, value));
+                CHECK(buildError(t.id, {{std::string(o.key), value}}) == "");
+                ++valuesChecked;
+            }
+            // The faithful default (its first word) and the correction are listed values.
+            const std::string faithful(o.faithful.substr(0, o.faithful.find(' ')));
+            const auto asJson = [&](const std::string& text) -> nlohmann::json {
+                if (o.kind == OptionInfo::Kind::Bool) return text == "true";
+                if (o.kind == OptionInfo::Kind::Number) return std::stod(text);
+                if (o.kind != OptionInfo::Kind::Word && text.find_first_not_of("0123456789") == std::string::npos)
+                    return std::stoll(text);
+                return text;
+            };
+            CHECK(!optionValueProblem(o, asJson(faithful)));
+            if (!o.corrected.empty()) CHECK(!optionValueProblem(o, asJson(std::string(o.corrected))));
+            // Values outside the list: rejected by the catalogue and by the technique, which names the key.
+            const std::vector<nlohmann::json> wrong = {"no-such-value", -3, nlohmann::json::array()};
+            for (const nlohmann::json& value : wrong) {
+                CAPTURE(value.dump());
+                CHECK(optionValueProblem(o, value));
+                CHECK(buildError(t.id, {{std::string(o.key), value}}).find("/options/" + std::string(o.key)) != std::string::npos);
+            }
+        }
+    }
+    CHECK(techniquesChecked == 10);  // preview (no options) and the nine techniques with options
+    CHECK(valuesChecked >= 90);      // 94 listed values today: the loop really ran over them
+}
+
+TEST_CASE("option catalogue: value text and problems name the accepted values") {
+    const OptionInfo* cone = findOption("forward-plus", "coneTest");
+    REQUIRE(cone);
+    CHECK(optionValuesText(*cone) == "demo | corrected");
+    CHECK(cone->erratum == 10);
+    CHECK(*optionValueProblem(*cone, "x") == "\"x\" is not one of demo | corrected");
+    const OptionInfo* capacity = findOption("tiled-deferred", "tileListCapacity");
+    REQUIRE(capacity);
+    CHECK(optionValuesText(*capacity) == "integer >= 1 | unbounded");
+    CHECK(!optionValueProblem(*capacity, 1));
+    CHECK(optionValueProblem(*capacity, 0));
+    CHECK(!findOption("forward", "coneTest"));
+    CHECK(techniqueOptions("preview").empty());
+}
+
+// Every pass a technique's frames can hold has a caption in the registry (TechniqueInfo::passes or
+// the shared ones): the report and the inspector show it, and a missing one would silently be "".
+// Frames are only built, not run, for the default options, each listed value of each option, 1
+// and 4 samples, and precision exact and reference.
+TEST_CASE("technique registry: every pass of every option value, sample count and precision has a caption") {
+    std::set<std::string> seen;  // "technique/pass"
+    for (const TechniqueInfo& t : techniques()) {
+        if (!t.build) continue;
+        std::vector<nlohmann::json> optionSets{nlohmann::json::object()};
+        for (const OptionInfo& o : t.options)
+            for (const nlohmann::json& value : listedValues(o)) optionSets.push_back({{std::string(o.key), value}});
+        for (const nlohmann::json& options : optionSets)
+            for (const std::uint32_t samples : {1u, 4u})
+                for (const Precision precision : {Precision::Exact, Precision::Reference}) {
+                    if (samples > 1 && !t.msaa) continue;
+                    Device device(DeviceConfig{64, 1});
+                    TechniqueContext ctx = catalogueContext(device, options);
+                    ctx.sampleCount = samples;
+                    ctx.precision = precision;
+                    Frame frame;
+                    try {
+                        frame = buildTechnique(t.id, ctx, ctx.sceneFile);
+                    } catch (const InputError&) {
+                        continue;  // a refused combination (e.g. an option that needs one sample) has no passes
+                    }
+                    for (const Pass& pass : frame.passes()) {
+                        CAPTURE(t.id);
+                        CAPTURE(pass.name);
+                        CAPTURE(options.dump());
+                        CHECK(!passCaption(t, pass.name).empty());
+                        seen.insert(std::string(t.id) + "/" + pass.name);
+                    }
+                }
+        // No caption for a pass that no frame holds (a renamed pass leaves none behind).
+        for (const PassCaption& c : t.passes) {
+            CAPTURE(c.pass);
+            CHECK(seen.count(std::string(t.id) + "/" + std::string(c.pass)) == 1);
+        }
+    }
+    // The loop reached the passes that only some option sets, sample counts or precisions add.
+    for (const char* pass : {"forward/resolve", "deferred/edges", "deferred/compose", "deferred/present",
+                             "forward-plus-amd/shadow-rays", "forward-plus-amd/indirect", "light-prepass/final"}) {
+        CAPTURE(pass);
+        CHECK(seen.count(pass) == 1);
+    }
+}
+
+} // namespace tessera_test::techniques_option_catalog_test

@@ -1,0 +1,113 @@
+// The technique registry as a test or an embedding program uses it: a technique registered at run
+// time (here a made-up one that fills the back buffer with one grey level) is listed, built,
+// optioned (its catalogue checked, unknown keys refused), captioned and estimated as the built-in
+// ones are, without any change to the library, the command line or the benchmarks.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+#include <tessera/errors/input_error.h>
+#include <tessera/frame/buffer_registry.h>
+#include <tessera/techniques/technique.h>
+
+#include "support/room_scene.h"
+
+namespace tessera_test::techniques_technique_registry {
+
+using namespace tessera;
+
+namespace {
+
+// Two passes: "clear" (a shared caption) creates the back buffer, "fill" (its own) writes the
+// option "grey" (0, 128 or 255: a code of the UNORM target) over every pixel.
+Frame buildGreyFill(const TechniqueContext& ctx) {
+    const float grey = float(ctx.options.value("grey", 128)) / 255.0f;
+    const SurfaceDesc desc{ctx.width, ctx.height, Format::R8G8B8A8_UNORM, 1};
+    const std::string back(kBackBufferName);
+    Frame frame;
+    frame.add({"clear", {}, {back}, [desc, back](BufferRegistry& reg) { reg.create(back, desc).clearColor(glm::vec4(0.0f)); }});
+    frame.add({"fill", {back}, {back}, [grey, back](BufferRegistry& reg) { reg.get(back).clearColor(glm::vec4(grey, grey, grey, 1.0f)); }});
+    return frame;
+}
+
+constexpr std::array<std::string_view, 3> kGreyValues{"128", "0", "255"};
+constexpr std::array<OptionInfo, 1> kGreyOptions{
+    OptionInfo{"grey", OptionInfo::Kind::Integer, kGreyValues, -1, "128", "", 0, "the grey level the fill writes"}};
+constexpr std::array<PassCaption, 1> kGreyPasses{{{"fill", "Writes one grey level over the back buffer (a test's technique)."}}};
+const TechniqueInfo kGreyFill{"test-grey-fill", "one grey level", "tests/techniques/technique_registry_test.cpp", &buildGreyFill,
+                              kGreyOptions, kGreyPasses, TexturePolicy::Gltf, false, 0, 0};
+
+// Once per process: doctest may run this file's cases in one process or one per case (ctest).
+const TechniqueInfo& registered() {
+    if (!findTechnique(kGreyFill.id)) registerTechnique(kGreyFill);
+    return *findTechnique(kGreyFill.id);
+}
+
+TechniqueContext contextFor(const SceneResources& resources, Device& device, nlohmann::json options) {
+    TechniqueContext ctx;
+    ctx.device = &device;
+    ctx.resources = &resources;
+    ctx.width = 8;
+    ctx.height = 4;
+    ctx.options = std::move(options);
+    return ctx;
+}
+
+} // namespace
+
+TEST_CASE("technique registry: a technique registered at run time is listed, built, optioned, captioned and estimated") {
+    const TechniqueInfo& info = registered();
+    int listed = 0;
+    for (const TechniqueInfo& t : techniques()) listed += t.id == "test-grey-fill" ? 1 : 0;
+    CHECK(listed == 1);
+    CHECK(&requireTechnique("test-grey-fill", "memory.json") == &info);
+    REQUIRE(findOption("test-grey-fill", "grey"));
+    CHECK(techniqueOptions("test-grey-fill").size() == 1);
+
+    const Scene scene = test::oneTriangle(-2.0f);
+    const SceneResources resources(scene);
+    Device device(DeviceConfig{64, 1});
+    BufferRegistry registry;
+    buildTechnique("test-grey-fill", contextFor(resources, device, {{"grey", 255}}), "memory.json").run(registry);
+    CHECK(registry.get(kBackBufferName).load(7, 3) == glm::vec4(1.0f));
+
+    // Keys outside its catalogue are refused by buildTechnique, naming the key; so is MSAA.
+    try {
+        buildTechnique("test-grey-fill", contextFor(resources, device, {{"gray", 255}}), "memory.json");
+        FAIL("an unknown option key built");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).find("/options/gray") != std::string::npos);
+    }
+    TechniqueContext msaa = contextFor(resources, device, nlohmann::json::object());
+    msaa.sampleCount = 4;
+    CHECK_THROWS_AS(buildTechnique("test-grey-fill", msaa, "memory.json"), InputError);
+
+    // Captions: its own pass from its row, "clear" from the shared ones, nothing for a pass it lacks.
+    CHECK(passCaption(info, "fill") == kGreyPasses[0].text);
+    CHECK(passCaption(info, "clear") == passCaption(*findTechnique("forward"), "clear"));
+    CHECK(passCaption(info, "lights").empty());
+
+    // The memory estimate runs its probe frames through the registry too: one RGBA8 target, 4 B a pixel.
+    const FrameMemoryEstimate e = estimateFrameMemory("test-grey-fill", contextFor(resources, device, nlohmann::json::object()),
+                                                      "memory.json");
+    CHECK(e.bytesPerPixel == doctest::Approx(4.0));
+}
+
+TEST_CASE("technique registry: a registration without an id or a build function, or with a taken id, is refused") {
+    registered();
+    CHECK_THROWS_AS(registerTechnique(kGreyFill), std::invalid_argument);  // taken
+    TechniqueInfo noId = kGreyFill;
+    noId.id = "";
+    CHECK_THROWS_AS(registerTechnique(noId), std::invalid_argument);
+    TechniqueInfo noBuild = kGreyFill;
+    noBuild.id = "test-no-build";
+    noBuild.build = nullptr;
+    CHECK_THROWS_AS(registerTechnique(noBuild), std::invalid_argument);
+    CHECK(!findTechnique("test-no-build"));
+    TechniqueInfo forward = *findTechnique("forward");
+    CHECK_THROWS_AS(registerTechnique(forward), std::invalid_argument);  // a built-in id
+}
+
+} // namespace tessera_test::techniques_technique_registry
