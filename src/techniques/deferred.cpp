@@ -219,38 +219,24 @@ struct DeferredSetup {
     std::function<void(std::size_t, std::string_view, const BufferRegistry&)> afterLightStep;  // TechniqueContext's
 };
 
-std::uint64_t optionThreshold(const nlohmann::json& options, const std::string& file) {
-    if (!options.is_object()) return kKillzoneDefaultThreshold;
-    const auto it = options.find("threshold");
-    if (it == options.end()) return kKillzoneDefaultThreshold;
-    if (it->is_number_unsigned()) return it->get<std::uint64_t>();
-    if (it->is_number_integer() && it->get<std::int64_t>() >= 0) return std::uint64_t(it->get<std::int64_t>());
-    throw inputError(file, "/options/threshold", "expected an integer >= 0 (samples)");
-}
-
 DeferredOptions parseOptions(const TechniqueContext& ctx, Method method, const std::string& file) {
     DeferredOptions o;
-    const nlohmann::json& j = ctx.options;
-    o.projection = optionEnum(j, "projection", {"demo-gl", "d3d"}, "demo-gl", file) == "d3d" ? ProjectionConvention::D3d
-                                                                                             : ProjectionConvention::DemoGl;
-    o.samplePoint = optionEnum(j, "reconstruct", {"corner", "centre"}, "corner", file) == "centre" ? PixelSamplePoint::Centre
-                                                                                                  : PixelSamplePoint::Corner;
-    o.volumes.fit = optionEnum(j, "lightVolumes", {"inscribed", "circumscribed"}, "inscribed", file) == "circumscribed"
-                        ? VolumeFit::Circumscribed
-                        : VolumeFit::Inscribed;
-    o.volumes.rotation = optionEnum(j, "volumeRotation", {"glm096", "robust"}, "glm096", file) == "robust"
-                             ? VolumeRotation::Robust
-                             : VolumeRotation::Glm096;
-    o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
+    const OptionReader r(ctx.options, method == Method::Killzone ? std::span<const OptionInfo>(kKillzoneOptions)
+                                                                 : std::span<const OptionInfo>(kDeferredOptions),
+                         file);
+    o.projection = r.is("projection", "d3d") ? ProjectionConvention::D3d : ProjectionConvention::DemoGl;
+    o.samplePoint = r.is("reconstruct", "centre") ? PixelSamplePoint::Centre : PixelSamplePoint::Corner;
+    o.volumes.fit = r.is("lightVolumes", "circumscribed") ? VolumeFit::Circumscribed : VolumeFit::Inscribed;
+    o.volumes.rotation = r.is("volumeRotation", "robust") ? VolumeRotation::Robust : VolumeRotation::Glm096;
+    o.floatTargets = r.is("gbuffer", "float");
     // Precision reference keeps the G-buffer unquantized: float targets, power unpacked.
     if (ctx.precision == Precision::Reference) o.floatTargets = true;
-    o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
-    o.accumulateLighting = optionEnum(j, "accumulate", {"color", "lighting"}, "color", file) == "lighting";
-    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
-                                                                                 : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(j, "alphaTest", false, file);
-    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::DepthNormal, file);
-    if (method == Method::Killzone) o.threshold = optionThreshold(j, file);
+    o.positionFromGBuffer = r.is("position", "gbuffer");
+    o.accumulateLighting = r.is("accumulate", "lighting");
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.edges = gbuffer_detail::parseEdgeDetector(r);
+    if (method == Method::Killzone) o.threshold = std::uint64_t(r.integer("threshold"));
     return o;
 }
 

@@ -39,20 +39,24 @@ struct ClassicOptions {
     bool finalPerSample = false;  // light-prepass MSAA final pass: per sample at edges (corrects Listing 11.19)
 };
 
-ClassicOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
-    const nlohmann::json& j = ctx.options;
+ClassicOptions parseOptions(const TechniqueContext& ctx, bool lightPrePass, const std::string& file) {
+    const OptionReader r(ctx.options,
+                         lightPrePass ? std::span<const OptionInfo>(kLightPrePassOptions)
+                                      : std::span<const OptionInfo>(kDeferredClassicOptions),
+                         file);
     ClassicOptions o;
-    const std::string g = optionEnum(j, "lightGeometry", {"quads", "scissor", "volumes"}, "quads", file);
-    o.geometry = g == "scissor" ? Geometry::Scissor : g == "volumes" ? Geometry::Volumes : Geometry::Quads;
-    o.normalizeV = optionEnum(j, "viewVector", {"printed", "normalized"}, "printed", file) == "normalized";
-    o.roundOut = optionEnum(j, "scissorRound", {"truncate", "out"}, "truncate", file) == "out";
-    o.stencil = optionBool(j, "stencil", false, file);
-    o.optimized = optionEnum(j, "gbuffer", {"plain", "optimized"}, "plain", file) == "optimized";
-    o.safeNormals = optionEnum(j, "normalEncoding", {"printed", "safe"}, "printed", file) == "safe";
-    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(j, "alphaTest", false, file);
-    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::Coverage, file);
-    o.finalPerSample = optionEnum(j, "msaaFinal", {"coverage", "perSample"}, "coverage", file) == "perSample";
+    o.geometry = r.is("lightGeometry", "scissor")   ? Geometry::Scissor
+                 : r.is("lightGeometry", "volumes") ? Geometry::Volumes
+                                                    : Geometry::Quads;
+    o.normalizeV = r.is("viewVector", "normalized");
+    o.roundOut = r.is("scissorRound", "out");
+    o.stencil = r.flag("stencil");
+    o.optimized = !lightPrePass && r.is("gbuffer", "optimized");
+    o.safeNormals = !lightPrePass && r.is("normalEncoding", "safe");
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.edges = gbuffer_detail::parseEdgeDetector(r);
+    o.finalPerSample = lightPrePass && r.is("msaaFinal", "perSample");
     return o;
 }
 
@@ -386,7 +390,7 @@ void runLights(const ClassicSetup& setup, Device& device, BufferRegistry& reg, S
 Frame buildFrame(const TechniqueContext& ctx, bool lightPrePass) {
     const std::string file = ctx.errorFile();
     auto setup = std::make_shared<ClassicSetup>();
-    setup->options = parseOptions(ctx, file);
+    setup->options = parseOptions(ctx, lightPrePass, file);
     const ClassicOptions& opt = setup->options;
     setup->afterLightStep = ctx.afterLightStep;
     setup->forward = makeForwardPassSetup(ctx, ProjectionConvention::D3d, opt.sampler, opt.alphaTest);

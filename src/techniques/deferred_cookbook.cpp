@@ -39,18 +39,18 @@ struct CookbookOptions {
 };
 
 CookbookOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
-    const nlohmann::json& j = ctx.options;
+    const OptionReader r(ctx.options, kDeferredCookbookOptions, file);
     CookbookOptions o;
-    o.printedUnpack = optionEnum(j, "specPowerUnpack", {"printed", "once"}, "printed", file) == "printed";
-    o.cullBack = optionEnum(j, "volumeCull", {"table", "front"}, "table", file) == "table";
-    o.bookSpot = optionEnum(j, "spotVolume", {"book", "demo"}, "book", file) == "book";
-    o.vertexCpPos = optionEnum(j, "cpPos", {"vertex", "pixel"}, "vertex", file) == "vertex";
-    o.stencil = optionEnum(j, "background", {"book", "stencil"}, "book", file) == "stencil";
-    o.padded = optionEnum(j, "volumeScale", {"padded", "range"}, "padded", file) == "padded";
-    o.quads = optionEnum(j, "lightGeometry", {"volumes", "quads"}, "volumes", file) == "quads";
-    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(j, "alphaTest", false, file);
-    o.edges = gbuffer_detail::parseEdgeDetector(ctx.options, EdgeDetector::DepthNormal, file);
+    o.printedUnpack = r.is("specPowerUnpack", "printed");
+    o.cullBack = r.is("volumeCull", "table");
+    o.bookSpot = r.is("spotVolume", "book");
+    o.vertexCpPos = r.is("cpPos", "vertex");
+    o.stencil = r.is("background", "stencil");
+    o.padded = r.is("volumeScale", "padded");
+    o.quads = r.is("lightGeometry", "quads");
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.edges = gbuffer_detail::parseEdgeDetector(r);
     return o;
 }
 

@@ -135,9 +135,10 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
 
 Frame buildForward(const TechniqueContext& ctx) {
     const std::string file = ctx.errorFile();
-    const std::string projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file);
-    const std::string sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file);
-    const bool alphaTest = optionBool(ctx.options, "alphaTest", false, file);
+    const OptionReader options(ctx.options, kForwardOptions, file);
+    const std::string projection = options.word("projection");
+    const std::string sampler = options.word("sampler");
+    const bool alphaTest = options.flag("alphaTest");
     std::shared_ptr<ForwardPassSetup> setup =
         makeForwardPassSetup(ctx, projection == "d3d" ? ProjectionConvention::D3d : ProjectionConvention::DemoGl,
                              sampler == "gltf" ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo, alphaTest);

@@ -58,42 +58,36 @@ struct AmdOptions {
     VplOptions vpl;
 };
 
-constexpr std::uint32_t kMaxRsmSize = 4096;  // texels per side of the reflective shadow map
-constexpr std::uint32_t kMaxVplGrid = 128;   // N: at most 16,384 VPLs
-
 AmdOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
+    const OptionReader r(ctx.options, kForwardPlusAmdOptions, file);
     AmdOptions o;
-    o.shadingAmd = optionEnum(ctx.options, "shading", {"amd", "3dgep"}, "amd", file) == "amd";
-    o.depthMask = optionEnum(ctx.options, "culling", {"depth-mask", "min-max"}, "depth-mask", file) == "depth-mask";
-    o.halfZ = optionBool(ctx.options, "halfZ", false, file);
+    o.shadingAmd = r.is("shading", "amd");
+    o.depthMask = r.is("culling", "depth-mask");
+    o.halfZ = r.flag("halfZ");
     if (o.halfZ && !o.shadingAmd)
         throw inputError(file, "/options/halfZ",
                          "halfZ needs \"shading\": \"amd\" (the 3dgep pixel shader reads one list per tile)");
-    o.projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, o.shadingAmd ? "d3d" : "demo-gl", file) == "d3d"
-                       ? ProjectionConvention::D3d
-                       : ProjectionConvention::DemoGl;
-    o.sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
-                                                                                               : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
-    o.lightLoop = optionEnum(ctx.options, "lightLoop", {"binned", "all-lights"}, "binned", file) == "binned" ? AmdLightLoop::Binned
-                                                                                                     : AmdLightLoop::AllLights;
-    o.shadows = optionEnum(ctx.options, "shadows", {"auto", "on", "off"}, "auto", file);
-    o.shadowRays.normalOffset = float(optionNumber(ctx.options, "shadowNormalOffset", 0.01, 0.0, 1e6, file));
-    const std::string backfaces = optionEnum(ctx.options, "shadowBackfaces", {"mask", "lit", "cast"}, "mask", file);
-    o.shadowRays.backfaces = backfaces == "mask" ? ShadowBackfaces::Mask : backfaces == "lit" ? ShadowBackfaces::Lit : ShadowBackfaces::Cast;
-    o.shadowRays.overflow = optionEnum(ctx.options, "shadowOverflow", {"lit", "unlit"}, "lit", file) == "lit" ? ShadowOverflow::Lit
-                                                                                                          : ShadowOverflow::Unlit;
-    o.indirect = optionEnum(ctx.options, "indirect", {"auto", "on", "off"}, "auto", file);
-    o.vpl.rsmSize = std::uint32_t(optionInteger(ctx.options, "rsmSize", 256, 1, kMaxRsmSize, file));
+    // projection's default follows the shading: d3d (AMD's sample), demo-gl (the 3dgep demo's).
+    const bool d3d = r.given("projection") ? r.is("projection", "d3d") : o.shadingAmd;
+    o.projection = d3d ? ProjectionConvention::D3d : ProjectionConvention::DemoGl;
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.lightLoop = r.is("lightLoop", "binned") ? AmdLightLoop::Binned : AmdLightLoop::AllLights;
+    o.shadows = r.word("shadows");
+    o.shadowRays.normalOffset = float(r.number("shadowNormalOffset"));
+    o.shadowRays.backfaces = r.is("shadowBackfaces", "mask")  ? ShadowBackfaces::Mask
+                             : r.is("shadowBackfaces", "lit") ? ShadowBackfaces::Lit
+                                                              : ShadowBackfaces::Cast;
+    o.shadowRays.overflow = r.is("shadowOverflow", "lit") ? ShadowOverflow::Lit : ShadowOverflow::Unlit;
+    o.indirect = r.word("indirect");
+    o.vpl.rsmSize = std::uint32_t(r.integer("rsmSize"));
     // vplGrid's default: 16, or the RSM's size when that is smaller.
-    o.vpl.grid = std::uint32_t(optionInteger(ctx.options, "vplGrid", std::min<std::int64_t>(16, o.vpl.rsmSize), 1, kMaxVplGrid, file));
-    o.vpl.coneDeg = float(optionNumber(ctx.options, "vplConeDeg", 60.0, 1.0, 89.0, file));
-    o.vpl.range = float(optionNumber(ctx.options, "vplRange", 4.0, 1e-6, 1e6, file));
-    o.vpl.intensity = float(optionNumber(ctx.options, "vplIntensity", 1.0, 0.0, 1e6, file));
-    o.vpl.direction = optionEnum(ctx.options, "vplDirection", {"reflect", "normal"}, "reflect", file) == "reflect"
-                          ? VplDirection::Reflect
-                          : VplDirection::Normal;
-    o.vpl.normalOffset = float(optionNumber(ctx.options, "vplOffset", 0.01, 0.0, 1e6, file));
+    o.vpl.grid = r.given("vplGrid") ? std::uint32_t(r.integer("vplGrid")) : std::min<std::uint32_t>(16, o.vpl.rsmSize);
+    o.vpl.coneDeg = float(r.number("vplConeDeg"));
+    o.vpl.range = float(r.number("vplRange"));
+    o.vpl.intensity = float(r.number("vplIntensity"));
+    o.vpl.direction = r.is("vplDirection", "reflect") ? VplDirection::Reflect : VplDirection::Normal;
+    o.vpl.normalOffset = float(r.number("vplOffset"));
     return o;
 }
 

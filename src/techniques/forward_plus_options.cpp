@@ -14,22 +14,15 @@
 namespace tessera::forward_plus_detail {
 
 ForwardPlusOptions parseOptions(const TechniqueContext& ctx, const std::string& file) {
+    const OptionReader r(ctx.options, kForwardPlusOptions, file);
     ForwardPlusOptions o;
-    o.projection = optionEnum(ctx.options, "projection", {"demo-gl", "d3d"}, "demo-gl", file) == "d3d"
-                       ? ProjectionConvention::D3d
-                       : ProjectionConvention::DemoGl;
-    o.sampler = optionEnum(ctx.options, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
-                                                                                               : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(ctx.options, "alphaTest", false, file);
-    o.unbounded = optionEnum(ctx.options, "lightLists", {"demo", "unbounded"}, "demo", file) == "unbounded";
-    o.coneCorrected = optionEnum(ctx.options, "coneTest", {"demo", "corrected"}, "demo", file) == "corrected";
-    o.brute = optionEnum(ctx.options, "culling", {"binned", "brute"}, "binned", file) == "brute";
-    if (ctx.options.is_object() && ctx.options.contains("tileSize")) {
-        const nlohmann::json& v = ctx.options["tileSize"];
-        if (!v.is_number_integer() || (v.get<std::int64_t>() != 8 && v.get<std::int64_t>() != 16 && v.get<std::int64_t>() != 32))
-            throw inputError(file, "/options/tileSize", "expected 8, 16 or 32 (tile edge in px)");
-        o.tileSizePx = static_cast<std::uint32_t>(v.get<std::int64_t>());
-    }
+    o.projection = r.is("projection", "d3d") ? ProjectionConvention::D3d : ProjectionConvention::DemoGl;
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.unbounded = r.is("lightLists", "unbounded");
+    o.coneCorrected = r.is("coneTest", "corrected");
+    o.brute = r.is("culling", "brute");
+    o.tileSizePx = static_cast<std::uint32_t>(r.integer("tileSize"));
     return o;
 }
 

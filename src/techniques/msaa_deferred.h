@@ -108,10 +108,11 @@ void drawPerPixelThenEdgeSamples(bool msaa, const PassState& pass, const PS& ps,
     draw(withEdgeTest(pass, true), PerSample<PS>{ps});
 }
 
-// The "msaaEdges" option: coverage | depthNormal | all.
-inline EdgeDetector parseEdgeDetector(const nlohmann::json& options, EdgeDetector fallback, const std::string& file) {
-    const std::string v = optionEnum(options, "msaaEdges", {"coverage", "depthNormal", "all"}, std::string(edgeDetectorName(fallback)), file);
-    return v == "coverage" ? EdgeDetector::Coverage : v == "depthNormal" ? EdgeDetector::DepthNormal : EdgeDetector::All;
+// The "msaaEdges" option (kEdgesPrcOption or kEdgesIntelOption: the table chooses the default).
+inline EdgeDetector parseEdgeDetector(const OptionReader& options) {
+    return options.is("msaaEdges", "coverage")      ? EdgeDetector::Coverage
+           : options.is("msaaEdges", "depthNormal") ? EdgeDetector::DepthNormal
+                                                    : EdgeDetector::All;
 }
 
 // The EdgeSample targets, cleared (viewZ 0: no surface), and the edges buffer.

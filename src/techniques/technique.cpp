@@ -25,36 +25,34 @@
 namespace tessera {
 namespace {
 
-// The built-in rows; each technique's options come from the catalogue (option_catalog.cpp) and its
-// pass captions from its own header.
+// The built-in rows; each technique's option table and pass captions are declared in its own header.
 std::vector<TechniqueInfo> builtinTechniques() {
     std::vector<TechniqueInfo> rows{
         {"preview", "base colour x head light, alpha mask and blend; no light model (inspection view)", "tessera",
          &buildPreview, {}, kPreviewPassCaptions, TexturePolicy::Gltf, true, kOwnHeadLight | kInspectionView, 0},
         {"forward", "forward shading: opaque pass, then transparent pass with alpha blending", "3dgep (van Oosten 2015)",
-         &buildForward, {}, kForwardPassCaptions, TexturePolicy::AllLinear, true, kComparisonBaseline, 0},
+         &buildForward, kForwardOptions, kForwardPassCaptions, TexturePolicy::AllLinear, true, kComparisonBaseline, 0},
         {"deferred", "G-buffer, per-light stencil light volumes (unmark + shade), transparent forward",
-         "3dgep (van Oosten 2015)", &buildDeferred, {}, kDeferredPassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
+         "3dgep (van Oosten 2015)", &buildDeferred, kDeferredOptions, kDeferredPassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
         {"deferred-killzone", "Killzone 2 stencil marking with occlusion-query thresholds", "3dgep (van Oosten 2015)",
-         &buildDeferredKillzone, {}, kKillzonePassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
+         &buildDeferredKillzone, kKillzoneOptions, kKillzonePassCaptions, TexturePolicy::AllLinear, true, kPerLightSteps, 0},
         {"forward-plus", "tiled Forward+: depth pre-pass, grid frustums, light culling, light grid",
-         "3dgep (van Oosten 2015)", &buildForwardPlus, {}, kForwardPlusPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
+         "3dgep (van Oosten 2015)", &buildForwardPlus, kForwardPlusOptions, kForwardPlusPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
         {"forward-plus-amd", "AMD Forward+: 8x8 tiles, two-level light list, 2.5D culling, half-Z, AMD lighting",
-         "GPU Pro 4 ch. 5 + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, {}, kForwardPlusAmdPassCaptions,
+         "GPU Pro 4 ch. 5 + AMD ForwardPlus11/TiledLighting11", &buildForwardPlusAmd, kForwardPlusAmdOptions, kForwardPlusAmdPassCaptions,
          TexturePolicy::AllLinear, true, kShadowRaysAndVpls, 8},
         {"tiled-deferred", "Intel tiled deferred shading in one compute dispatch", "Intel 2010 sample (Lauritzen)",
-         &buildTiledDeferred, {}, kTiledDeferredPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
+         &buildTiledDeferred, kTiledDeferredOptions, kTiledDeferredPassCaptions, TexturePolicy::AllLinear, true, 0, 16},
         {"deferred-cookbook", "G-buffer with packed specular power, directional quad, tessellated point/spot/capsule volumes",
-         "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, {}, kDeferredCookbookPassCaptions,
+         "HLSL Development Cookbook ch. 2 (Feinstein 2013)", &buildDeferredCookbook, kDeferredCookbookOptions, kDeferredCookbookPassCaptions,
          TexturePolicy::AllLinear, true, kShadesCapsuleLights, 0},
         {"deferred-classic", "4 x RGBA32F G-buffer, one additive pass per light over a quad, scissored quad or volume",
-         "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, {}, kDeferredClassicPassCaptions,
+         "PR&C D3D11 ch. 11 (Zink, Pettineo, Hoxley 2011)", &buildDeferredClassic, kDeferredClassicOptions, kDeferredClassicPassCaptions,
          TexturePolicy::AllLinear, true, kHonoursLightGroups, 0},
         {"light-prepass", "32 B/px G-buffer, lights summed into a light buffer, the geometry drawn again to apply albedos",
-         "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, {}, kLightPrePassPassCaptions,
+         "PR&C D3D11 ch. 11 §11.3 (Zink, Pettineo, Hoxley 2011)", &buildLightPrePass, kLightPrePassOptions, kLightPrePassPassCaptions,
          TexturePolicy::AllLinear, true, kHonoursLightGroups, 0},
     };
-    for (TechniqueInfo& row : rows) row.options = builtinOptionCatalog(row.id);
     return rows;
 }
 

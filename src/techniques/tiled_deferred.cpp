@@ -141,32 +141,22 @@ struct TiledOptions {
 };
 
 TiledOptions parseOptions(const nlohmann::json& j, const std::string& file) {
+    const OptionReader r(j, kTiledDeferredOptions, file);
     TiledOptions o;
-    o.shading = optionEnum(j, "shading", {"intel", "3dgep"}, "intel", file) == "3dgep" ? Shading::Dgep : Shading::Intel;
-    o.floatTargets = optionEnum(j, "gbuffer", {"demo", "float"}, "demo", file) == "float";
-    o.positionFromGBuffer = optionEnum(j, "position", {"reconstruct", "gbuffer"}, "reconstruct", file) == "gbuffer";
-    o.spheremap = optionEnum(j, "normals", {"spheremap", "float"}, "spheremap", file) == "spheremap";
-    o.planes = optionEnum(j, "tilePlanes", {"sample2010", "tile"}, "sample2010", file) == "tile" ? IntelSidePlanes::TileBounds
-                                                                                                      : IntelSidePlanes::Sample2010;
-    optionEnum(j, "projection", {"d3d"}, "d3d", file);
-    o.sampler = optionEnum(j, "sampler", {"demo", "gltf"}, "demo", file) == "gltf" ? PhongSamplerChoice::Gltf
-                                                                                 : PhongSamplerChoice::Demo;
-    o.alphaTest = optionBool(j, "alphaTest", false, file);
-    o.edges = gbuffer_detail::parseEdgeDetector(j, EdgeDetector::DepthNormal, file);
-    if (j.is_object()) {
-        if (const auto it = j.find("tileSize"); it != j.end()) {
-            if (!it->is_number_integer() || (it->get<std::int64_t>() != 8 && it->get<std::int64_t>() != 16 &&
-                                             it->get<std::int64_t>() != 32))
-                throw inputError(file, "/options/tileSize", "expected 8, 16 or 32 (pixels)");
-            o.tileSize = std::uint32_t(it->get<std::int64_t>());
-        }
-        if (const auto it = j.find("tileListCapacity"); it != j.end()) {
-            if (it->is_string() && it->get<std::string>() == "unbounded") o.capacity = kUnbounded;
-            else if (it->is_number_integer() && it->get<std::int64_t>() >= 1 && it->get<std::int64_t>() < std::int64_t(kUnbounded))
-                o.capacity = std::uint32_t(it->get<std::int64_t>());
-            else throw inputError(file, "/options/tileListCapacity", "expected an integer >= 1 or \"unbounded\"");
-        }
-    }
+    o.shading = r.is("shading", "3dgep") ? Shading::Dgep : Shading::Intel;
+    o.floatTargets = r.is("gbuffer", "float");
+    o.positionFromGBuffer = r.is("position", "gbuffer");
+    o.spheremap = r.is("normals", "spheremap");
+    o.planes = r.is("tilePlanes", "tile") ? IntelSidePlanes::TileBounds : IntelSidePlanes::Sample2010;
+    (void)r.word("projection");  // checked: "d3d" is its only value
+    o.sampler = r.is("sampler", "gltf") ? PhongSamplerChoice::Gltf : PhongSamplerChoice::Demo;
+    o.alphaTest = r.flag("alphaTest");
+    o.edges = gbuffer_detail::parseEdgeDetector(r);
+    o.tileSize = std::uint32_t(r.integer("tileSize"));
+    // IntegerOrWord: "unbounded", or an integer in 1..2^32 - 2 (the table's bound; 2^32 - 1 is kUnbounded).
+    o.capacity = r.is("tileListCapacity", "unbounded")
+                     ? kUnbounded
+                     : std::uint32_t(r.integer("tileListCapacity"));
     return o;
 }
 

@@ -174,7 +174,7 @@ TEST_CASE("cli: options lists every technique's options, and render --option is 
     INFO(all.output);
     CHECK(all.exitCode == 0);
     for (const char* line : {"forward-plus\n", "  coneTest          demo | corrected", "ERRATA.md #10", "tileListCapacity",
-                             "integer >= 1 | unbounded", "preview: no options", "light-prepass", "specPowerUnpack", "scissorRound"})
+                             "integer in 1..4294967294 | unbounded", "preview: no options", "light-prepass", "specPowerUnpack", "scissorRound"})
         CHECK_MESSAGE(all.output.find(line) != std::string::npos, line);
     const Run one = run("options deferred");
     CHECK(one.exitCode == 0);

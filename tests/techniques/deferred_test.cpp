@@ -241,7 +241,7 @@ TEST_CASE("deferred-killzone: the threshold skips lights with few samples, sampl
 }
 
 TEST_CASE("deferred: option values are InputErrors naming the key path, and every precision is accepted") {
-    CHECK(errorOf("deferred", {{"reconstruct", "middle"}}).find("memory.json: /options/reconstruct: 'middle' is not one of corner, centre") !=
+    CHECK(errorOf("deferred", {{"reconstruct", "middle"}}).find("memory.json: /options/reconstruct: \"middle\" is not one of corner | centre") !=
           std::string::npos);
     CHECK(errorOf("deferred", {{"gbuffer", 1}}).find("/options/gbuffer") != std::string::npos);
     CHECK(errorOf("deferred", {{"threshold", 3}}).find("/options/threshold") != std::string::npos);  // killzone only

@@ -14,6 +14,38 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kReconstruct{"corner", "centre"};
+inline constexpr std::array<std::string_view, 2> kVolumes{"inscribed", "circumscribed"};
+inline constexpr std::array<std::string_view, 2> kRotation{"glm096", "robust"};
+inline constexpr std::array<std::string_view, 2> kAccumulate{"color", "lighting"};
+} // namespace option_values
+
+inline constexpr std::array<OptionInfo, 10> kDeferredOptions{
+    kProjectionOption,
+    OptionInfo{"reconstruct", OptionInfo::Kind::Word, option_values::kReconstruct, -1, "corner", "centre", 3,
+               "where the light pass rebuilds P from depth: the pixel's top-left corner, or its centre"},
+    OptionInfo{"lightVolumes", OptionInfo::Kind::Word, option_values::kVolumes, -1, "inscribed", "circumscribed", 4,
+               "the demo's sphere and cone meshes inside the light's range, or scaled to contain it"},
+    OptionInfo{"volumeRotation", OptionInfo::Kind::Word, option_values::kRotation, -1, "glm096", "robust", 5,
+               "glm 0.9.6's quat(u, v) (identity for a spot aimed down -Z), or a rotation that handles it"},
+    OptionInfo{"gbuffer", OptionInfo::Kind::Word, option_values::kGBuffer, -1, "demo", "float", 7,
+               "RGBA8 targets with log2(p)/10.5 specular power and D24S8, or float targets and D32S8"},
+    OptionInfo{"position", OptionInfo::Kind::Word, option_values::kPosition, -1, "reconstruct", "gbuffer", 0,
+               "P from the depth buffer, or the interpolated view position stored in gbuffer.position"},
+    OptionInfo{"accumulate", OptionInfo::Kind::Word, option_values::kAccumulate, -1, "color", "lighting", 0,
+               "each light blends its colour into RT0, or lighting is summed apart and composed as forward does (the "
+               "order that reproduces forward's bits)"},
+    kSamplerOption,
+    kAlphaTestOption,
+    kEdgesIntelOption};
+inline constexpr std::array<OptionInfo, 11> kKillzoneOptions = withOption(
+    kDeferredOptions,
+    OptionInfo{"threshold", OptionInfo::Kind::Integer, option_values::kNone, 0, "0", "", 0,
+               "a light's shade draw runs only when its occlusion query passed more than this many samples"});
+
 // Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY).
 // Defaults are faithful to the demo; every other value is a named correction (ERRATA.md).
 //   "projection": "demo-gl" | "d3d"      as forward (forward.h): the demo's GL-form matrix.

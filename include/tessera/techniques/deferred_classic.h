@@ -13,6 +13,45 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 3> kClassicGeometry{"quads", "scissor", "volumes"};
+inline constexpr std::array<std::string_view, 2> kViewVector{"printed", "normalized"};
+inline constexpr std::array<std::string_view, 2> kScissorRound{"truncate", "out"};
+inline constexpr std::array<std::string_view, 2> kClassicGBuffer{"plain", "optimized"};
+inline constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
+inline constexpr std::array<std::string_view, 2> kMsaaFinal{"coverage", "perSample"};
+} // namespace option_values
+
+inline constexpr OptionInfo kClassicGeometryOption{"lightGeometry", OptionInfo::Kind::Word, option_values::kClassicGeometry, -1, "quads", "", 0,
+                                            "a full-screen quad per light (§11.2), the quad cut by the light's scissor "
+                                            "rectangle, or its volume (§11.4.2)"};
+inline constexpr OptionInfo kViewVectorOption{"viewVector", OptionInfo::Kind::Word, option_values::kViewVector, -1, "printed", "normalized", 27,
+                                       "Listing 11.3's unnormalized V in H = normalize(L + V), or Eq. 11.1's unit V"};
+inline constexpr OptionInfo kScissorRoundOption{"scissorRound", OptionInfo::Kind::Word, option_values::kScissorRound, -1, "truncate", "out", 28,
+                                         "Listing 11.14 truncates the rectangle's right and bottom edges, or rounds them up"};
+inline constexpr OptionInfo kStencilMaskOption{"stencil", OptionInfo::Kind::Bool, option_values::kBool, -1, "false", "", 0,
+                                        "the stencil mask of lit geometry (G-buffer REPLACE 1, lights EQUAL 1)"};
+inline constexpr std::array<OptionInfo, 9> kDeferredClassicOptions{
+    kClassicGeometryOption,
+    kViewVectorOption,
+    kScissorRoundOption,
+    kStencilMaskOption,
+    OptionInfo{"gbuffer", OptionInfo::Kind::Word, option_values::kClassicGBuffer, -1, "plain", "", 0,
+               "Listing 11.1's four RGBA32F targets (64 B/px), or the optimized 16 B/px layout with position from depth"},
+    OptionInfo{"normalEncoding", OptionInfo::Kind::Word, option_values::kNormalEncoding, -1, "printed", "safe", 29,
+               "Listing 11.8's sphere map (NaN at and near the camera-facing pole: black pixels), or a codec defined there"},
+    kSamplerOption,
+    kAlphaTestOption,
+    kEdgesPrcOption};
+inline constexpr std::array<OptionInfo, 8> kLightPrePassOptions{
+    kClassicGeometryOption, kViewVectorOption, kScissorRoundOption, kStencilMaskOption, kSamplerOption, kAlphaTestOption,
+    kEdgesPrcOption,
+    OptionInfo{"msaaFinal", OptionInfo::Kind::Word, option_values::kMsaaFinal, -1, "coverage", "perSample", 30,
+               "MSAA second geometry pass: Listing 11.19's loop over SV_Coverage (which counts samples of surfaces in "
+               "front), or per sample at edge pixels"}};
+
 // Options (scene file "options", `render --option`); defaults are faithful to the chapter:
 //   "lightGeometry": "quads" | "scissor" | "volumes"   quads: §11.2, every light a full-screen
 //       quad; scissor: the quad cut by Listing 11.14's rectangle (point and spot lights); volumes:

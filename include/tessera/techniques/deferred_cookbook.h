@@ -15,6 +15,37 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kSpecPowerUnpack{"printed", "once"};
+inline constexpr std::array<std::string_view, 2> kVolumeCull{"table", "front"};
+inline constexpr std::array<std::string_view, 2> kSpotVolume{"book", "demo"};
+inline constexpr std::array<std::string_view, 2> kCpPos{"vertex", "pixel"};
+inline constexpr std::array<std::string_view, 2> kBackground{"book", "stencil"};
+inline constexpr std::array<std::string_view, 2> kVolumeScale{"padded", "range"};
+inline constexpr std::array<std::string_view, 2> kLightGeometry{"volumes", "quads"};
+} // namespace option_values
+
+inline constexpr std::array<OptionInfo, 10> kDeferredCookbookOptions{
+    OptionInfo{"specPowerUnpack", OptionInfo::Kind::Word, option_values::kSpecPowerUnpack, -1, "printed", "once", 22,
+               "the chapter's printed unpack (251 x norm, then decoded again) or 0.1 + 250 x norm once"},
+    OptionInfo{"volumeCull", OptionInfo::Kind::Word, option_values::kVolumeCull, -1, "table", "front", 23,
+               "the recipe table's CULL_BACK (lights what is in front of the volume) or CULL_FRONT (its far side)"},
+    OptionInfo{"spotVolume", OptionInfo::Kind::Word, option_values::kSpotVolume, -1, "book", "demo", 24,
+               "ScaleXY = R tan(a)/sqrt(1/2) on a 45-degree unit cone, or the outer angle's cone scaled by R (enlarged)"},
+    OptionInfo{"cpPos", OptionInfo::Kind::Word, option_values::kCpPos, -1, "vertex", "pixel", 25,
+               "clip-space xy divided per vertex and interpolated, or the pixel centre's"},
+    OptionInfo{"background", OptionInfo::Kind::Word, option_values::kBackground, -1, "book", "stencil", 26,
+               "the directional quad without depth-stencil shades the background too, or stencil marks the geometry"},
+    OptionInfo{"volumeScale", OptionInfo::Kind::Word, option_values::kVolumeScale, -1, "padded", "", 0,
+               "volumes enlarged to contain the light's range (the book's 'plus a small value'), or exactly the range"},
+    OptionInfo{"lightGeometry", OptionInfo::Kind::Word, option_values::kLightGeometry, -1, "volumes", "", 0,
+               "the recipes' volumes, or every light as a full-screen quad (the baseline the volumes must match)"},
+    kSamplerOption,
+    kAlphaTestOption,
+    kEdgesIntelOption};
+
 // Options (scene file "options", `render --option`); defaults are faithful to the chapter, each
 // other value a named correction (ERRATA.md):
 //   "specPowerUnpack": "printed" | "once"   printed: UnpackGBuffer's `norm + norm * 250` and the

@@ -19,6 +19,10 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+inline constexpr std::array<OptionInfo, 3> kForwardOptions{kProjectionOption, kSamplerOption, kAlphaTestOption};
+
 // Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY):
 //   "projection": "demo-gl" (default, faithful) | "d3d" (corrected).
 //       demo-gl: the demo's glm::perspective in OpenGL form ([2][2] = -(f+n)/(f-n),

@@ -17,6 +17,28 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kLightLists{"demo", "unbounded"};
+inline constexpr std::array<std::string_view, 2> kConeTest{"demo", "corrected"};
+inline constexpr std::array<std::string_view, 2> kCulling{"binned", "brute"};
+} // namespace option_values
+
+inline constexpr std::array<OptionInfo, 7> kForwardPlusOptions{
+    kProjectionOption,
+    kSamplerOption,
+    kAlphaTestOption,
+    OptionInfo{"lightLists", OptionInfo::Kind::Word, option_values::kLightLists, -1, "demo", "unbounded", 15,
+               "the demo's fixed light lists (1024 per tile, 200 per tile globally) that overflow silently, or lists "
+               "that never drop a light"},
+    OptionInfo{"coneTest", OptionInfo::Kind::Word, option_values::kConeTest, -1, "demo", "corrected", 10,
+               "the article's ConeInsidePlane (m not normalised: not conservative), or the corrected test"},
+    kTileSizeOption,
+    OptionInfo{"culling", OptionInfo::Kind::Word, option_values::kCulling, -1, "binned", "", 0,
+               "how the culling dispatch finds each tile's lights: binned by tile rows, or every light in every tile "
+               "(the same lists)"}};
+
 // Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY).
 // Defaults are faithful to the demo; the other values are named corrections (ERRATA.md).
 //   "projection": "demo-gl" | "d3d"   as forward (forward.h). The culling uses the same matrix:

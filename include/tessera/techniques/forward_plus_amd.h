@@ -14,6 +14,58 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kShadingAmd{"amd", "3dgep"};
+inline constexpr std::array<std::string_view, 2> kCullingAmd{"depth-mask", "min-max"};
+inline constexpr std::array<std::string_view, 2> kProjectionAmd{"d3d", "demo-gl"};
+inline constexpr std::array<std::string_view, 2> kLightLoop{"binned", "all-lights"};
+inline constexpr std::array<std::string_view, 3> kAutoOnOff{"auto", "on", "off"};
+inline constexpr std::array<std::string_view, 3> kShadowBackfaces{"mask", "lit", "cast"};
+inline constexpr std::array<std::string_view, 2> kShadowOverflow{"lit", "unlit"};
+inline constexpr std::array<std::string_view, 2> kVplDirection{"reflect", "normal"};
+} // namespace option_values
+
+inline constexpr std::int64_t kAmdMaxRsmSize = 4096;  // texels per side of the reflective shadow map
+inline constexpr std::int64_t kAmdMaxVplGrid = 128;   // N: at most 16,384 VPLs
+
+inline constexpr std::array<OptionInfo, 19> kForwardPlusAmdOptions{
+    OptionInfo{"shading", OptionInfo::Kind::Word, option_values::kShadingAmd, -1, "amd", "", 0,
+               "ForwardPlus11's pixel shader (AMD falloff and lighting), or the 3dgep article's Phong shader"},
+    OptionInfo{"culling", OptionInfo::Kind::Word, option_values::kCullingAmd, -1, "depth-mask", "", 0,
+               "GPU Pro 4's 2.5D culling (32-cell depth mask), or side planes and the tile's depth slab"},
+    OptionInfo{"halfZ", OptionInfo::Kind::Bool, option_values::kBool, -1, "false", "", 21,
+               "TiledLighting11's two lists per tile split at the middle of its depth range (shading amd only)"},
+    OptionInfo{"projection", OptionInfo::Kind::Word, option_values::kProjectionAmd, -1, "d3d (shading 3dgep: demo-gl)", "d3d", 1,
+               "as forward; AMD's sample builds a D3D matrix, the 3dgep shading follows the 3dgep demo"},
+    kSamplerOption,
+    kAlphaTestOption,
+    OptionInfo{"lightLoop", OptionInfo::Kind::Word, option_values::kLightLoop, -1, "binned", "", 0,
+               "which lights each tile's culling loop visits: binned by tile rows, or all (GPU Pro 4's kernel); the "
+               "same lists"},
+    OptionInfo{"shadows", OptionInfo::Kind::Word, option_values::kAutoOnOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.6.2 ray-cast shadows when the scene has shadow-casting lights and the configuration allows "
+               "(on: an error otherwise), or never"},
+    OptionInfo{"shadowNormalOffset", OptionInfo::Kind::Number, option_values::kNone, -1, "0.01", "", 0,
+               "world units along the G-pass normal from the rebuilt position to the shadow ray's origin", 0.0, 1e6},
+    OptionInfo{"shadowBackfaces", OptionInfo::Kind::Word, option_values::kShadowBackfaces, -1, "mask", "", 0,
+               "a light behind the surface: masked without a ray, left lit, or ray cast"},
+    OptionInfo{"shadowOverflow", OptionInfo::Kind::Word, option_values::kShadowOverflow, -1, "lit", "unlit", 31,
+               "lights past the 128 mask slots of a pixel: shaded unshadowed, or dropped"},
+    OptionInfo{"indirect", OptionInfo::Kind::Word, option_values::kAutoOnOff, -1, "auto", "", 0,
+               "GPU Pro 4 5.5 one-bounce VPLs when the scene has an indirect light (on: an error otherwise), or never"},
+    OptionInfo{"rsmSize", OptionInfo::Kind::Integer, option_values::kNone, 1, "256", "", 0,
+               "reflective shadow map edge in texels", 0.0, 0.0, kAmdMaxRsmSize},
+    OptionInfo{"vplGrid", OptionInfo::Kind::Integer, option_values::kNone, 1, "16", "", 0,
+               "N: N x N VPLs from the RSM's grid-cell centres (default: 16, at most rsmSize)", 0.0, 0.0, kAmdMaxVplGrid},
+    OptionInfo{"vplConeDeg", OptionInfo::Kind::Number, option_values::kNone, -1, "60", "", 0, "each VPL's spot half angle in degrees", 1.0, 89.0},
+    OptionInfo{"vplRange", OptionInfo::Kind::Number, option_values::kNone, -1, "4", "", 0, "each VPL's range in world units", 1e-6, 1e6},
+    OptionInfo{"vplIntensity", OptionInfo::Kind::Number, option_values::kNone, -1, "1", "", 0, "scale of the VPLs' summed colour", 0.0, 1e6},
+    OptionInfo{"vplDirection", OptionInfo::Kind::Word, option_values::kVplDirection, -1, "reflect", "", 0,
+               "VPL axis: the reflection of the light direction about the normal (the chapter's), or the normal"},
+    OptionInfo{"vplOffset", OptionInfo::Kind::Number, option_values::kNone, -1, "0.01", "", 0, "world units a VPL sits off its surface", 0.0, 1e6}};
+
 // Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY):
 //   "shading": "amd" (default) | "3dgep"
 //       amd: ForwardPlus11's RenderScenePS (amd_lighting.h) in world space: falloff

@@ -1,10 +1,15 @@
 // The technique options as data: every key a technique accepts in a scene file's "options" (or
 // `tessera render --option KEY=VALUE`), its values, the faithful default, the correction and the
-// ERRATA.md row it belongs to, and one line of meaning. `tessera options` prints it; the CLI
-// checks --option against it before loading anything; a test holds it equal to the parsers.
+// ERRATA.md row it belongs to, and one line of meaning. Each technique declares its table in its own
+// header (kForwardOptions, ...) and reads it through OptionReader (technique_options.h), so a key's
+// values and default are written once; the options shared by several techniques are declared here.
+// `tessera options` prints the tables; the CLI checks --option against them before loading anything.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -31,17 +36,58 @@ struct OptionInfo {
     int erratum = 0;                            // ERRATA.md row; 0 when none
     std::string_view meaning;                   // one line
     double minNumber = 0.0, maxNumber = 0.0;    // Number: the closed range accepted
+    std::int64_t maxInteger = std::numeric_limits<std::int64_t>::max();  // Integer / IntegerOrWord with minInteger >= 0: the upper bound
 };
 
-// The option tables of the built-in techniques (empty for an id without one): each registry row's
-// TechniqueInfo::options (technique.h, which also answers techniqueOptions and findOption for
-// every registered technique).
-std::span<const OptionInfo> builtinOptionCatalog(std::string_view id);
+// Values and options that several techniques share (each technique's own are in its header).
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kBool{"false", "true"};
+inline constexpr std::array<std::string_view, 2> kProjection{"demo-gl", "d3d"};
+inline constexpr std::array<std::string_view, 2> kSampler{"demo", "gltf"};
+inline constexpr std::array<std::string_view, 3> kTileSize{"16", "8", "32"};
+inline constexpr std::array<std::string_view, 2> kGBuffer{"demo", "float"};
+inline constexpr std::array<std::string_view, 2> kPosition{"reconstruct", "gbuffer"};
+inline constexpr std::array<std::string_view, 3> kEdgesPrc{"coverage", "depthNormal", "all"};
+inline constexpr std::array<std::string_view, 3> kEdgesIntel{"depthNormal", "coverage", "all"};
+inline constexpr std::array<std::string_view, 0> kNone{};
+} // namespace option_values
+
+inline constexpr OptionInfo kProjectionOption{"projection", OptionInfo::Kind::Word, option_values::kProjection, -1,
+                                              "demo-gl", "d3d", 1,
+                                              "the demo's OpenGL-form perspective under D3D clipping (near plane at "
+                                              "0.19998), or perspectiveRH_ZO"};
+inline constexpr OptionInfo kSamplerOption{"sampler", OptionInfo::Kind::Word, option_values::kSampler, -1, "demo", "", 0,
+                                           "the demo's trilinear wrap sampler for every texture, or each texture's glTF "
+                                           "sampler"};
+inline constexpr OptionInfo kAlphaTestOption{"alphaTest", OptionInfo::Kind::Bool, option_values::kBool, -1, "false", "true",
+                                             2,
+                                             "discard where alpha * Opacity < AlphaThreshold in the forward-shaded pass, "
+                                             "which the demo's forward PS never does"};
+inline constexpr OptionInfo kTileSizeOption{"tileSize", OptionInfo::Kind::Integer, option_values::kTileSize, -1, "16", "",
+                                            0, "tile edge in px, one thread group per tile (BLOCK_SIZE)"};
+// With --msaa N: which pixels the light passes shade per sample (techniques/msaa_deferred.h).
+inline constexpr OptionInfo kEdgesPrcOption{"msaaEdges", OptionInfo::Kind::Word, option_values::kEdgesPrc, -1, "coverage",
+                                            "", 0,
+                                            "MSAA: per-sample shading where a triangle covered the pixel partly (Listing "
+                                            "11.17), where depth or normal differ (Intel 2010), or everywhere"};
+inline constexpr OptionInfo kEdgesIntelOption{"msaaEdges", OptionInfo::Kind::Word, option_values::kEdgesIntel, -1,
+                                              "depthNormal", "", 0,
+                                              "MSAA: per-sample shading where depth or normal differ (Intel 2010), where "
+                                              "a triangle covered the pixel partly (PR&C Listing 11.17), or everywhere"};
+
+// A table's options and one more (deferred-killzone: deferred's and its threshold).
+template <std::size_t N>
+constexpr std::array<OptionInfo, N + 1> withOption(const std::array<OptionInfo, N>& base, const OptionInfo& extra) {
+    std::array<OptionInfo, N + 1> out{};
+    for (std::size_t i = 0; i < N; ++i) out[i] = base[i];
+    out[N] = extra;
+    return out;
+}
 
 // Why `value` is not a value of `option` ("'x' is not one of a, b"), or nullopt when it is.
 std::optional<std::string> optionValueProblem(const OptionInfo& option, const nlohmann::json& value);
 
-// "demo-gl | d3d", "false | true", "integer >= 1 | unbounded": the accepted values as one line.
+// "demo-gl | d3d", "false | true", "integer >= 1 | unbounded", "integer in 1..4096": the accepted values as one line.
 std::string optionValuesText(const OptionInfo& option);
 
 } // namespace tessera

@@ -1,31 +1,54 @@
-// Reading a technique's "options" (the scene file's JSON object) with clear errors: each helper
-// returns the value of one key or its default, and throws InputError naming "/options/KEY" for
-// a value of the wrong type or outside the allowed set. Unknown keys are rejected earlier, by
-// buildTechnique, against TechniqueInfo::options.
+// Reading a technique's "options" (the scene file's JSON object) through its option table
+// (techniques/option_catalog.h): each read returns the value given or the table's faithful default,
+// checked by the table's own rule (optionValueProblem), so a key's values and default are written
+// once, in the table. A bad value is an InputError naming the file and "/options/KEY"; unknown keys
+// are rejected earlier, by buildTechnique. Reading a key the table lacks, or comparing with a word it
+// does not list, is a programming error (std::logic_error), which every technique's tests reach.
 #pragma once
 
 #include <cstdint>
-#include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include <tessera/techniques/option_catalog.h>
+
 namespace tessera {
 
-// options[key] as one of `allowed` (a JSON string); `fallback` when the key is absent.
-std::string optionEnum(const nlohmann::json& options, std::string_view key, std::initializer_list<std::string_view> allowed,
-                       std::string_view fallback, const std::string& file);
+class OptionReader {
+public:
+    // `options` (a JSON object, or null for none) read against `table`; `file` names the scene file
+    // in errors. The reader keeps references: both must outlive it.
+    OptionReader(const nlohmann::json& options, std::span<const OptionInfo> table, std::string file);
 
-// options[key] as a JSON boolean; `fallback` when the key is absent.
-bool optionBool(const nlohmann::json& options, std::string_view key, bool fallback, const std::string& file);
+    // Whether the options give `key` (its value is checked either way when read).
+    bool given(std::string_view key) const;
+    // A Word option (or an IntegerOrWord given as a word): the word given, else the default.
+    std::string word(std::string_view key) const;
+    // Whether the option's word (given or default) is `value`, which must be one of its words
+    // (false for an IntegerOrWord given as an integer).
+    bool is(std::string_view key, std::string_view value) const;
+    // A Bool option.
+    bool flag(std::string_view key) const;
+    // A Number option.
+    double number(std::string_view key) const;
+    // An Integer option, or an IntegerOrWord given as an integer (unsigned values past INT64_MAX
+    // read as INT64_MAX).
+    std::int64_t integer(std::string_view key) const;
 
-// options[key] as a JSON number in [lo, hi]; `fallback` when the key is absent.
-double optionNumber(const nlohmann::json& options, std::string_view key, double fallback, double lo, double hi,
-                    const std::string& file);
+private:
+    const OptionInfo& info(std::string_view key) const;
+    // The value given, checked against the table; nullptr when absent.
+    const nlohmann::json* checked(const OptionInfo& option) const;
+    // The table's default as JSON (std::logic_error when it is not one of the option's values).
+    nlohmann::json fallback(const OptionInfo& option) const;
+    nlohmann::json read(std::string_view key) const;
 
-// options[key] as a JSON integer in [lo, hi]; `fallback` when the key is absent.
-std::int64_t optionInteger(const nlohmann::json& options, std::string_view key, std::int64_t fallback, std::int64_t lo,
-                           std::int64_t hi, const std::string& file);
+    const nlohmann::json& options_;
+    std::span<const OptionInfo> table_;
+    std::string file_;
+};
 
 } // namespace tessera

@@ -16,6 +16,37 @@
 
 namespace tessera {
 
+// Its options (techniques/option_catalog.h): keys, values, the faithful default, the correction and its
+// ERRATA.md row; read through OptionReader, listed by `tessera options`.
+namespace option_values {
+inline constexpr std::array<std::string_view, 2> kShadingIntel{"intel", "3dgep"};
+inline constexpr std::array<std::string_view, 2> kNormals{"spheremap", "float"};
+inline constexpr std::array<std::string_view, 2> kTilePlanes{"sample2010", "tile"};
+inline constexpr std::array<std::string_view, 1> kUnbounded{"unbounded"};
+inline constexpr std::array<std::string_view, 1> kProjectionD3d{"d3d"};
+} // namespace option_values
+
+inline constexpr std::array<OptionInfo, 11> kTiledDeferredOptions{
+    OptionInfo{"shading", OptionInfo::Kind::Word, option_values::kShadingIntel, -1, "intel", "", 0,
+               "Intel's 2010 sample shading, or the 3dgep article's Phong equations on the same G-buffer"},
+    OptionInfo{"gbuffer", OptionInfo::Kind::Word, option_values::kGBuffer, -1, "demo", "float", 7,
+               "the sample's quantised G-buffer, or float targets"},
+    OptionInfo{"position", OptionInfo::Kind::Word, option_values::kPosition, -1, "reconstruct", "gbuffer", 0,
+               "P from the depth buffer (Intel's reconstruction), or the interpolated view position"},
+    OptionInfo{"normals", OptionInfo::Kind::Word, option_values::kNormals, -1, "spheremap", "float", 0,
+               "intel shading: the normal through the sample's spheremap encoding, or as stored in float"},
+    OptionInfo{"tilePlanes", OptionInfo::Kind::Word, option_values::kTilePlanes, -1, "sample2010", "tile", 12,
+               "the sample's side planes (c4 +- c1, c4 +- c2: each spans 2x2 tiles), or planes that bound the tile"},
+    kTileSizeOption,
+    OptionInfo{"tileListCapacity", OptionInfo::Kind::IntegerOrWord, option_values::kUnbounded, 1, "1024", "unbounded", 16,
+               "lights one tile's list holds (MAX_LIGHTS); past it lights are dropped and counted", 0.0, 0.0,
+               0xFFFFFFFE},
+    OptionInfo{"projection", OptionInfo::Kind::Word, option_values::kProjectionD3d, -1, "d3d", "", 0,
+               "the only value: Intel's view-z reconstruction needs a D3D-form matrix"},
+    kSamplerOption,
+    kAlphaTestOption,
+    kEdgesIntelOption};
+
 // Options (scene file "options"; unknown keys or values are InputErrors naming /options/KEY).
 // Defaults follow Intel's 2010 sample; the other values are named corrections or the 3dgep
 // comparison mode.
