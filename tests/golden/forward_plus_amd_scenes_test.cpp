@@ -266,10 +266,6 @@ TEST_CASE("forward-plus-amd scenes: 2.5D culling gives the min-max image with sh
     CHECK(readForwardPlusCounters(mask).opaque.requested < readForwardPlusCounters(minMax).opaque.requested);
 }
 
-TEST_CASE("golden: default scene, forward-plus-amd, 320x180") {
-    test::checkGoldenAtOneAndTwoThreads(scene("default"), "forward-plus-amd");
-}
-
 // Small lights: with 64 large lights (range 35-40) AMD's x2 / x8 boost saturates nearly every
 // pixel of Sponza, which would leave the golden little to check.
 TEST_CASE("golden: Sponza with 64 small lights, forward-plus-amd, 320x180") {

@@ -220,16 +220,4 @@ TEST_CASE("forward-plus scenes: binned culling equals the brute-force loop, outp
     }
 }
 
-TEST_CASE("golden: default scene, forward-plus, 320x180") {
-    BufferRegistry reg;
-    run("default", "forward-plus", {}, reg, 2);
-    test::checkGolden(reg.get(kBackBufferName), "default", "forward-plus");
-}
-
-TEST_CASE("golden: Sponza with 64 large lights, forward-plus, 320x180") {
-    BufferRegistry reg;
-    run("sponza-large-lights", "forward-plus", {}, reg, 2);
-    test::checkGolden(reg.get(kBackBufferName), "sponza-large-lights", "forward-plus");
-}
-
 } // namespace tessera_test::golden_forward_plus_scenes_test
