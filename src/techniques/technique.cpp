@@ -15,6 +15,7 @@
 #include <tessera/errors/input_error.h>
 #include <tessera/techniques/deferred.h>
 #include <tessera/techniques/deferred_classic.h>
+#include <tessera/techniques/light_prepass.h>
 #include <tessera/techniques/deferred_cookbook.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>

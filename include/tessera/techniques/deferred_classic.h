@@ -21,7 +21,6 @@ inline constexpr std::array<std::string_view, 2> kViewVector{"printed", "normali
 inline constexpr std::array<std::string_view, 2> kScissorRound{"truncate", "out"};
 inline constexpr std::array<std::string_view, 2> kClassicGBuffer{"plain", "optimized"};
 inline constexpr std::array<std::string_view, 2> kNormalEncoding{"printed", "safe"};
-inline constexpr std::array<std::string_view, 2> kMsaaFinal{"coverage", "perSample"};
 } // namespace option_values
 
 inline constexpr OptionInfo kClassicGeometryOption{"lightGeometry", OptionInfo::Kind::Word, option_values::kClassicGeometry, -1, "quads", "", 0,
@@ -45,12 +44,6 @@ inline constexpr std::array<OptionInfo, 9> kDeferredClassicOptions{
     kSamplerOption,
     kAlphaTestOption,
     kEdgesPrcOption};
-inline constexpr std::array<OptionInfo, 8> kLightPrePassOptions{
-    kClassicGeometryOption, kViewVectorOption, kScissorRoundOption, kStencilMaskOption, kSamplerOption, kAlphaTestOption,
-    kEdgesPrcOption,
-    OptionInfo{"msaaFinal", OptionInfo::Kind::Word, option_values::kMsaaFinal, -1, "coverage", "perSample", 30,
-               "MSAA second geometry pass: Listing 11.19's loop over SV_Coverage (which counts samples of surfaces in "
-               "front), or per sample at edge pixels"}};
 
 // Options (scene file "options", `render --option`); defaults are faithful to the chapter:
 //   "lightGeometry": "quads" | "scissor" | "volumes"   quads: §11.2, every light a full-screen
@@ -84,14 +77,6 @@ inline constexpr std::array<PassCaption, 3> kDeferredClassicPassCaptions{{
                "same pixels for less work."},
     {"present", "The float light sum converted to the back buffer (precision reference)."},
 }};
-inline constexpr std::array<PassCaption, 3> kLightPrePassPassCaptions{{
-    {"gbuffer", "Two R32G32B32A32_FLOAT targets: world normal with the specular power, world position, 32 bytes a pixel "
-                "(PR&C D3D11 ch. 11 §11.3, Listing 11.4)."},
-    {"lights", "Each light adds N.L x colour x attenuation and a monochrome specular to the light buffer (PR&C D3D11 "
-               "ch. 11 §11.3, Listing 11.5)."},
-    {"final", "The opaque geometry drawn a second time, LESS_EQUAL against its own depth: light buffer x diffuse texel "
-              "+ specular x specular albedo (Listing 11.6)."},
-}};
 
 // Buffers: "backbuffer" R8G8B8A8_UNORM, cleared to black (the lights' sum; the chapter has no
 // ambient term); "gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"
@@ -104,15 +89,5 @@ inline constexpr std::array<PassCaption, 3> kLightPrePassPassCaptions{{
 // G-buffer pass adds "msaa.surface" and "msaa.coverage" (the edge detectors' inputs, RGBA32F) and
 // "edges" (R32_FLOAT, 1 at the samples of pixels shaded per sample; option "msaaEdges").
 Frame buildDeferredClassic(const TechniqueContext& context);
-
-// The `light-prepass` technique (PR&C D3D11 ch. 11 §11.3, after Engel 2009): a 32 B/px G-buffer
-// ("gbuffer.normal" = (world N, specular power), "gbuffer.position" = (world P, 1), Listing 11.4),
-// the lights summed into "lightbuffer" R32G32B32A32_FLOAT (Listing 11.5: N.L x colour x
-// attenuation in RGB, the monochrome specular without the light's colour in A), then the opaque
-// geometry drawn a second time ("final", LESS_EQUAL, Listing 11.6: light.rgb x diffuse texel +
-// light.a x SpecularAlbedo). The same options and light geometries as deferred-classic. The
-// monochrome specular is the technique's known approximation: equal to deferred-classic's image
-// (within float summation order) under white lights, different under coloured ones (tested).
-Frame buildLightPrePass(const TechniqueContext& context);
 
 } // namespace tessera
