@@ -412,6 +412,80 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     }
 }
 
+// The "lights" pass: each light's volume steps (unmark, shade; Killzone: mark, count, shade) over the
+// G-buffer and the depth copy, into `lightTargets`.
+Pass lightsPass(const std::shared_ptr<DeferredSetup>& setup, const TechniqueContext& ctx, const std::vector<std::string>& gbufferTargets,
+                const std::vector<std::string>& lightTargets) {
+    const DeferredOptions& opt = setup->options;
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
+    std::vector<std::string> lightReads = gbufferTargets;
+    lightReads.emplace_back("depth");
+    lightReads.emplace_back("depth.copy");
+    std::vector<std::string> lightWrites = lightTargets;
+    lightWrites.emplace_back("depth");
+    if (setup->method == Method::Killzone) lightWrites.emplace_back("killzone.samples");
+    if (opt.accumulateLighting) lightReads.insert(lightReads.end(), lightTargets.begin(), lightTargets.end());
+    return {"lights", lightReads, lightWrites, [setup, device, stats, variantCounts](BufferRegistry& reg) {
+                   LightingInputs& in = setup->inputs;
+                   in.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
+                   in.specular = TargetReader(reg.get("gbuffer.specular"));
+                   in.normal = TargetReader(reg.get("gbuffer.normal"));
+                   if (setup->options.positionFromGBuffer) in.position = TargetReader(reg.get("gbuffer.position"));
+                   in.depth = &reg.get("depth.copy");
+                   const bool reference = setup->forward->precision == Precision::Reference;
+                   if (setup->options.accumulateLighting) {
+                       if (reference) runLights<2, double>(*setup, *device, reg, stats, variantCounts);
+                       else runLights<2, float>(*setup, *device, reg, stats, variantCounts);
+                   } else {
+                       if (reference) runLights<1, double>(*setup, *device, reg, stats, variantCounts);
+                       else runLights<1, float>(*setup, *device, reg, stats, variantCounts);
+                   }
+               }};
+}
+
+// The "compose" pass (accumulate lighting): forward's final expression on every pixel in front of
+// the far plane (the directional quad's pixels), written to the back buffer without blending; with
+// MSAA per pixel where the edge bit is clear and per sample where it is set.
+Pass composePass(const std::shared_ptr<DeferredSetup>& setup, const TechniqueContext& ctx) {
+    Device* device = ctx.device;
+    DrawStats* stats = ctx.stats;
+    const bool reference = ctx.precision == Precision::Reference;
+    const bool msaa = ctx.sampleCount > 1;
+    const std::string back = backBufferTarget(ctx.sampleCount), backReference = referenceBufferTarget(ctx.sampleCount);
+    std::vector<std::string> composeReads{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "light.diffuse",
+                                          "light.specular", "depth", back};
+    std::vector<std::string> composed{back};
+    if (reference) {
+        composeReads.push_back(backReference);
+        composed.push_back(backReference);
+    }
+    // Precision reference composes into the float buffer and quantizes it afterwards.
+    return {"compose", composeReads, composed, [setup, device, stats, reference, back, backReference, msaa](BufferRegistry& reg) {
+                   LightingInputs& in = setup->inputs;
+                   in.accumulation = TargetReader(reg.get("accumulation"));
+                   in.lightDiffuse = TargetReader(reg.get("light.diffuse"));
+                   in.lightSpecular = TargetReader(reg.get("light.specular"));
+                   RenderTargets rt;
+                   rt.colors[0] = &reg.get(reference ? backReference : back);
+                   rt.depthStencil = &reg.get("depth");
+                   PassState pass = kDeferredDirectionalPass;
+                   pass.blend = BlendState{};
+                   Light quad;
+                   quad.type = LightType::Directional;
+                   const ComposePS ps{&setup->inputs};
+                   gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, [&](const PassState& state, const auto& shader) {
+                       drawLightGeometry(*setup, *device, state, rt, quad, &shader, nullptr, stats);
+                   });
+                   if (reference) {
+                       Surface& composedRef = reg.get(backReference);
+                       storeAsUnorm(composedRef, composedRef);
+                       storeAsUnorm(composedRef, reg.get(back));
+                   }
+               }};
+}
+
 Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
     const std::string file = ctx.errorFile();
     auto setup = std::make_shared<DeferredSetup>();
@@ -483,12 +557,8 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    }
                }});
 
-    Device* device = ctx.device;
-    DrawStats* stats = ctx.stats;
-    std::map<std::string, std::uint64_t>* variantCounts = ctx.variantCounts;
-
     frame.add(gbuffer_detail::deferredGBufferPass(setup->forward, ctx, gbufferTargets, opt.floatTargets, opt.accumulateLighting));
-    if (msaa) frame.add(gbuffer_detail::edgePass(device, stats, opt.edges));
+    if (msaa) frame.add(gbuffer_detail::edgePass(ctx.device, ctx.stats, opt.edges));
 
     // CopyTexturePass(depthStencilBuffer, depthStencilTexture): the lighting PS's DepthTextureVS.
     frame.add({"copy depth", {"depth"}, {"depth.copy"}, [](BufferRegistry& reg) {
@@ -497,29 +567,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                    std::copy(depth.bytes().begin(), depth.bytes().end(), copy.bytes().begin());
                }});
 
-    std::vector<std::string> lightReads = gbufferTargets;
-    lightReads.emplace_back("depth");
-    lightReads.emplace_back("depth.copy");
-    std::vector<std::string> lightWrites = lightTargets;
-    lightWrites.emplace_back("depth");
-    if (method == Method::Killzone) lightWrites.emplace_back("killzone.samples");
-    if (opt.accumulateLighting) lightReads.insert(lightReads.end(), lightTargets.begin(), lightTargets.end());
-    frame.add({"lights", lightReads, lightWrites, [setup, device, stats, variantCounts](BufferRegistry& reg) {
-                   LightingInputs& in = setup->inputs;
-                   in.diffuse = TargetReader(reg.get("gbuffer.diffuse"));
-                   in.specular = TargetReader(reg.get("gbuffer.specular"));
-                   in.normal = TargetReader(reg.get("gbuffer.normal"));
-                   if (setup->options.positionFromGBuffer) in.position = TargetReader(reg.get("gbuffer.position"));
-                   in.depth = &reg.get("depth.copy");
-                   const bool reference = setup->forward->precision == Precision::Reference;
-                   if (setup->options.accumulateLighting) {
-                       if (reference) runLights<2, double>(*setup, *device, reg, stats, variantCounts);
-                       else runLights<2, float>(*setup, *device, reg, stats, variantCounts);
-                   } else {
-                       if (reference) runLights<1, double>(*setup, *device, reg, stats, variantCounts);
-                       else runLights<1, float>(*setup, *device, reg, stats, variantCounts);
-                   }
-               }});
+    frame.add(lightsPass(setup, ctx, gbufferTargets, lightTargets));
 
     const bool reference = ctx.precision == Precision::Reference;
     if (setup->separateAccumulation) {
@@ -533,41 +581,7 @@ Frame buildDeferredFrame(const TechniqueContext& ctx, Method method) {
                        if (reference) storeAsUnorm(accumulation, reg.get(backReference));
                    }});
     }
-    if (opt.accumulateLighting) {
-        // Forward's final expression on every pixel in front of the far plane (the directional
-        // quad's pixels), written to the back buffer without blending; with MSAA per pixel where
-        // the edge bit is clear and per sample where it is set.
-        std::vector<std::string> composeReads{"accumulation", "gbuffer.diffuse", "gbuffer.specular", "light.diffuse",
-                                              "light.specular", "depth", back};
-        std::vector<std::string> composed{back};
-        if (reference) {
-            composeReads.push_back(backReference);
-            composed.push_back(backReference);
-        }
-        // Precision reference composes into the float buffer and quantizes it afterwards.
-        frame.add({"compose", composeReads, composed, [setup, device, stats, reference, back, backReference, msaa](BufferRegistry& reg) {
-                       LightingInputs& in = setup->inputs;
-                       in.accumulation = TargetReader(reg.get("accumulation"));
-                       in.lightDiffuse = TargetReader(reg.get("light.diffuse"));
-                       in.lightSpecular = TargetReader(reg.get("light.specular"));
-                       RenderTargets rt;
-                       rt.colors[0] = &reg.get(reference ? backReference : back);
-                       rt.depthStencil = &reg.get("depth");
-                       PassState pass = kDeferredDirectionalPass;
-                       pass.blend = BlendState{};
-                       Light quad;
-                       quad.type = LightType::Directional;
-                       const ComposePS ps{&setup->inputs};
-                       gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, [&](const PassState& state, const auto& shader) {
-                           drawLightGeometry(*setup, *device, state, rt, quad, &shader, nullptr, stats);
-                       });
-                       if (reference) {
-                           Surface& composedRef = reg.get(backReference);
-                           storeAsUnorm(composedRef, composedRef);
-                           storeAsUnorm(composedRef, reg.get(back));
-                       }
-                   }});
-    }
+    if (opt.accumulateLighting) frame.add(composePass(setup, ctx));
 
     // The demo's TransparentPass with g_pTransparentPipeline, as forward's (3dgep article §3.4:
     // "identical to the forward rendering technique"), over the back buffer and the G-buffer's depth.
