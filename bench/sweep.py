@@ -20,8 +20,8 @@
 #
 # Usage: sweep.py [--tessera PATH] [--out DIR] [--scenes LIST] [--techniques LIST]
 #                 [--precisions LIST] [--lights LIST] [--width W --height H] [--repeat N]
-#                 [--warmup K] [--threads N] [--full] [--jobs J] [--timeout S]
-#                 [--list-cells | --count-cells | --cell N[,M,...] | --summarize]
+#                 [--warmup K] [--threads N] [--full] [--jobs J] [--timeout S] [--registry FILE]
+#                 [--list-cells | --count-cells | --print-cells | --cell N[,M,...] | --summarize]
 import argparse
 import csv
 import hashlib
@@ -43,8 +43,14 @@ SCENES_DIR = os.path.join(REPO, "scenes")
 # not an inspection view: its defaults (faithful to the source) and, when any of its options corrects
 # an erratum, one set with every correction on; --full adds one set per listed value of each
 # word, boolean or integer option that differs from its default (one option changed at a time).
-def registry(binary):
-    """The technique registry as `tessera options --json` prints it."""
+def registry(binary, path=None):
+    """The technique registry as `tessera options --json` prints it (or as saved in `path`)."""
+    if path:
+        try:
+            with open(path) as f:
+                return json.load(f)
+        except (OSError, ValueError) as e:
+            fail(f"sweep.py: --registry: cannot read the technique registry from '{path}': {e}")
     try:
         out = subprocess.run([binary, "options", "--json"], check=True, capture_output=True, text=True).stdout
     except (OSError, subprocess.CalledProcessError) as e:
@@ -78,8 +84,8 @@ def knob_sets(technique, full):
     return sets
 
 
-def knobs_from_registry(binary, full):
-    return {t["id"]: knob_sets(t, full) for t in registry(binary) if t["ready"] and not t["inspectionView"]}
+def knobs_from_registry(binary, full, path=None):
+    return {t["id"]: knob_sets(t, full) for t in registry(binary, path) if t["ready"] and not t["inspectionView"]}
 
 
 MSAA_SMALL, MSAA_FULL = [1, 4], [1, 2, 4, 8]  # builtin scene only
@@ -120,7 +126,7 @@ def load_scene(path):
 
 def build_cells(args):
     """Every cell of the sweep, in a fixed order (the same flags give the same list everywhere)."""
-    knobs = knobs_from_registry(args.tessera, args.full)
+    knobs = knobs_from_registry(args.tessera, args.full, args.registry)
     lights = parse_list(args.lights, int) if args.lights else (LIGHTS_FULL if args.full else [8, 32, 128])
     cells = []
     for scene in parse_list(args.scenes):
@@ -448,6 +454,8 @@ def sweep_flags(args):
         flags += ["--lights", args.lights]
     if args.full:
         flags.append("--full")
+    if args.registry:
+        flags += ["--registry", os.path.abspath(args.registry)]
     return flags
 
 
@@ -472,9 +480,13 @@ def main():
     ap.add_argument("--full", action="store_true", help="every knob set and light counts 1..1024")
     ap.add_argument("--jobs", type=int, default=1, help="cells at once on this machine (default 1: timings stay clean)")
     ap.add_argument("--timeout", type=int, default=1800, help="seconds per cell before it counts as failed")
+    ap.add_argument("--registry", default="", help="read the technique registry from this file (the JSON of "
+                    "`tessera options --json`, or of a program that registered its own techniques) instead of --tessera")
     mode = ap.add_mutually_exclusive_group()
     mode.add_argument("--list-cells", action="store_true", help="print one command per cell (for GNU parallel) and exit")
     mode.add_argument("--count-cells", action="store_true", help="print the number of cells (for a Slurm job array) and exit")
+    mode.add_argument("--print-cells", action="store_true", help="print each cell's id (scene.technique.knobs.lights."
+                      "size.threads.precision), one per line, and exit")
     mode.add_argument("--cell", help="run only these cells (indices into the list, comma-separated); no summary")
     mode.add_argument("--summarize", action="store_true", help="only compute errors and write the summaries")
     args = ap.parse_args()
@@ -490,6 +502,10 @@ def main():
     cells = build_cells(args)
     if args.count_cells:
         print(len(cells))
+        return 0
+    if args.print_cells:
+        for c in cells:
+            print(c["id"])
         return 0
     if args.list_cells:
         base = ["python3", os.path.abspath(__file__)] + sweep_flags(args)

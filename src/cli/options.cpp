@@ -28,35 +28,6 @@ ready, renders MSAA, is the comparison baseline or an inspection view, its pass 
 its options (key, kind, values, minimum, range, faithful, corrected, erratum, meaning).
 )";
 
-constexpr std::string_view kKindNames[] = {"word", "bool", "integer", "integer-or-word", "number"};
-
-nlohmann::json registryJson(std::string_view only) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const tessera::TechniqueInfo& t : tessera::techniques()) {
-        if (!only.empty() && t.id != only) continue;
-        nlohmann::json options = nlohmann::json::array();
-        for (const tessera::OptionInfo& o : t.options) {
-            nlohmann::json values = nlohmann::json::array();
-            for (const std::string_view v : o.values) values.push_back(std::string(v));
-            nlohmann::json row{{"key", std::string(o.key)}, {"kind", std::string(kKindNames[std::size_t(o.kind)])},
-                               {"values", values}, {"faithful", std::string(o.faithful)},
-                               {"corrected", std::string(o.corrected)}, {"erratum", o.erratum},
-                               {"meaning", std::string(o.meaning)}};
-            if (o.minInteger >= 0) row["minInteger"] = o.minInteger;
-            if (o.kind == tessera::OptionInfo::Kind::Number) row["range"] = {o.minNumber, o.maxNumber};
-            options.push_back(std::move(row));
-        }
-        nlohmann::json passes = nlohmann::json::object();
-        for (const tessera::PassCaption& c : t.passes) passes[std::string(c.pass)] = std::string(c.text);
-        out.push_back({{"id", std::string(t.id)}, {"summary", std::string(t.summary)}, {"source", std::string(t.source)},
-                       {"ready", t.build != nullptr}, {"msaa", t.msaa},
-                       {"baseline", (t.features & tessera::kComparisonBaseline) != 0},
-                       {"inspectionView", (t.features & tessera::kInspectionView) != 0},
-                       {"tileSize", t.tileSize}, {"passes", passes}, {"options", options}});
-    }
-    return out;
-}
-
 } // namespace
 
 int optionsCommand(const std::vector<std::string_view>& args) {
@@ -81,7 +52,7 @@ int optionsCommand(const std::vector<std::string_view>& args) {
         }
     }
     if (json) {
-        std::printf("%s\n", registryJson(only).dump(2).c_str());
+        std::printf("%s\n", tessera::techniqueRegistryJson(only).dump(2).c_str());
         return 0;
     }
     bool first = true;

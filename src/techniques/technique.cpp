@@ -303,4 +303,34 @@ void checkSampleCount(const TechniqueInfo& info, std::uint32_t sampleCount, cons
     }
 }
 
+nlohmann::json techniqueRegistryJson(std::string_view only) {
+    static constexpr std::string_view kKindNames[] = {"word", "bool", "integer", "integer-or-word", "number"};
+    nlohmann::json out = nlohmann::json::array();
+    for (const TechniqueInfo& t : techniques()) {
+        if (!only.empty() && t.id != only) continue;
+        nlohmann::json options = nlohmann::json::array();
+        for (const OptionInfo& o : t.options) {
+            nlohmann::json values = nlohmann::json::array();
+            for (const std::string_view v : o.values) values.push_back(std::string(v));
+            nlohmann::json row{{"key", std::string(o.key)}, {"kind", std::string(kKindNames[std::size_t(o.kind)])},
+                               {"values", values}, {"faithful", std::string(o.faithful)},
+                               {"corrected", std::string(o.corrected)}, {"erratum", o.erratum},
+                               {"meaning", std::string(o.meaning)}};
+            if (o.minInteger >= 0) {
+                row["minInteger"] = o.minInteger;
+                if (o.maxInteger < std::numeric_limits<std::int64_t>::max()) row["maxInteger"] = o.maxInteger;
+            }
+            if (o.kind == OptionInfo::Kind::Number) row["range"] = {o.minNumber, o.maxNumber};
+            options.push_back(std::move(row));
+        }
+        nlohmann::json passes = nlohmann::json::object();
+        for (const PassCaption& c : t.passes) passes[std::string(c.pass)] = std::string(c.text);
+        out.push_back({{"id", std::string(t.id)}, {"summary", std::string(t.summary)}, {"source", std::string(t.source)},
+                       {"ready", t.build != nullptr}, {"msaa", t.msaa}, {"baseline", (t.features & kComparisonBaseline) != 0},
+                       {"inspectionView", (t.features & kInspectionView) != 0}, {"tileSize", t.tileSize},
+                       {"passes", passes}, {"options", options}});
+    }
+    return out;
+}
+
 } // namespace tessera

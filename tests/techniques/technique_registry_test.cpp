@@ -5,6 +5,9 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -108,6 +111,37 @@ TEST_CASE("technique registry: a registration without an id or a build function,
     CHECK(!findTechnique("test-no-build"));
     TechniqueInfo forward = *findTechnique("forward");
     CHECK_THROWS_AS(registerTechnique(forward), std::invalid_argument);  // a built-in id
+}
+
+// The sweep (bench/sweep.py) takes its techniques and option sets from the registry's JSON: the
+// made-up technique, saved with the built-in ones as `tessera options --json` prints them, is swept
+// with its defaults and (--full) each other listed value of its option, with no edit to bench/.
+TEST_CASE("technique registry: a technique registered at run time is swept by bench/sweep.py") {
+    (void)registered();
+    const nlohmann::json json = techniqueRegistryJson();
+    const nlohmann::json* mine = nullptr;
+    for (const nlohmann::json& t : json)
+        if (t["id"] == "test-grey-fill") mine = &t;
+    REQUIRE(mine != nullptr);
+    CHECK((*mine)["passes"]["fill"] == "Writes one grey level over the back buffer (a test's technique).");
+    CHECK((*mine)["options"][0]["values"] == nlohmann::json::array({"128", "0", "255"}));
+    const std::filesystem::path file = std::filesystem::path(TESSERA_TEST_OUTPUT_DIR) / "registry-with-test-technique.json";
+    std::ofstream(file) << json.dump(1);
+    const std::string command = "python3 " + std::string(TESSERA_SOURCE_DIR) + "/bench/sweep.py --registry " + file.string() +
+                                " --scenes default --precisions exact --full --print-cells 2>&1";
+    std::string output;
+    if (FILE* pipe = popen(command.c_str(), "r")) {
+        char buffer[4096];
+        while (const std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
+        CHECK(pclose(pipe) == 0);
+    }
+    INFO(output);
+    // Cell ids: scene.technique.knobs.lights.size.threads.precision (the default scene has its own lights).
+    for (const char* cell : {"default.test-grey-fill.defaults.Lscene.320x180.t0.exact\n",
+                             "default.test-grey-fill.grey=0.Lscene.320x180.t0.exact\n",
+                             "default.test-grey-fill.grey=255.Lscene.320x180.t0.exact\n",
+                             "default.forward.defaults.Lscene.320x180.t0.exact\n"})
+        CHECK_MESSAGE(output.find(cell) != std::string::npos, cell);
 }
 
 } // namespace tessera_test::techniques_technique_registry

@@ -101,6 +101,12 @@ enum TechniqueFeature : std::uint32_t {
     kComparisonBaseline = 1u << 6,   // the image every other technique is compared against (forward)
 };
 
+// The registry as JSON, for scripts (`tessera options --json`, bench/sweep.py): per technique (every
+// one, or only the id `only`) its id, summary, source, whether it is ready, renders MSAA, is the
+// comparison baseline or an inspection view, its tile size, pass captions and options (key, kind,
+// values, minInteger / maxInteger, range, faithful, corrected, erratum, meaning).
+nlohmann::json techniqueRegistryJson(std::string_view only = {});
+
 // The passes every technique may hold, captioned once.
 extern const std::span<const PassCaption> kCommonPassCaptions;
 
