@@ -76,8 +76,11 @@ int infoCommand(const std::vector<std::string_view>& args) {
     std::printf("cameras     %zu in the glTF files; render camera at (%g, %g, %g), fovY %g deg, near %g, far %g\n",
                 scene.cameras.size(), camera.positionWorld.x, camera.positionWorld.y, camera.positionWorld.z, camera.fovYDeg,
                 camera.nearZ, camera.farZ);
-    std::printf("lights      %zu (point %zu, spot %zu, directional %zu)\n", scene.lights.size(), lightsByType[0], lightsByType[1],
+    std::printf("lights      %zu (point %zu, spot %zu, directional %zu)", scene.lights.size(), lightsByType[0], lightsByType[1],
                 lightsByType[2]);
+    if (scene.gltfLightsNotUsed > 0)
+        std::printf("; %zu more placed by the glTF files, left out (\"gltfLights\" uses them)", scene.gltfLightsNotUsed);
+    std::printf("\n");
     if (b.empty()) std::printf("bounds      empty\n");
     else
         std::printf("bounds      (%g, %g, %g) .. (%g, %g, %g)\n", b.minWorld.x, b.minWorld.y, b.minWorld.z, b.maxWorld.x,

@@ -304,6 +304,9 @@ LoadedScene loadForRender(RenderOptions& o, Progress& progress) {
                          sceneFile.string().c_str());
     }
     if (const auto depth = tessera::depthPrecisionWarning(camera, scene.bounds())) warn(sceneFile.string() + ": " + *depth);
+    if (scene.gltfLightsNotUsed > 0 && !(features & tessera::kOwnHeadLight))
+        warn(sceneFile.string() + ": its glTF files place " + std::to_string(scene.gltfLightsNotUsed) +
+             " KHR_lights_punctual light(s), which this scene file leaves out; \"gltfLights\": {\"enabled\": true} uses them");
     warnUnhonouredLights(sceneFile, desc, scene, features);
     s.loadMs = msSince(t0);
     return s;

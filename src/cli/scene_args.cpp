@@ -44,6 +44,9 @@ SceneDescription describe(const std::filesystem::path& file) {
         d.file = file;
         d.models.push_back({file, glm::mat4(1.0f)});
         d.technique = "preview";
+        // A bare glTF is lit by the KHR_lights_punctual lights its nodes place, as a glTF viewer
+        // lights it (a scene file opts in with "gltfLights"); none: the default rig (render.cpp).
+        d.useGltfLights = true;
         return d;
     }
     if (file.extension() != ".json")

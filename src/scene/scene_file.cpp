@@ -883,6 +883,8 @@ Scene loadScene(const SceneDescription& d, bool loadImages, Camera* cameraOut) {
                 light.range = d.gltfLightDefaultRange;
             scene.lights.push_back(std::move(light));
         }
+    } else {
+        scene.gltfLightsNotUsed = gltfLights.size();
     }
     checkGeneratedTotal(d.generators, file);  // again: the counts may have been changed since (--lights)
     Bounds bounds;

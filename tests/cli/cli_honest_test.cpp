@@ -378,4 +378,38 @@ TEST_CASE("cli honest: --generated-bitangent down changes a render whose normal 
     CHECK(bad.output.find("--generated-bitangent: 'sideways' is not down or up") != std::string::npos);
 }
 
+// A glTF's own KHR_lights_punctual lights: a bare .gltf is lit by them (as a glTF viewer lights it,
+// not by the default rig), and a scene file that leaves them out (no "gltfLights") says so in
+// `render` and `info` instead of calling the scene unlit.
+TEST_CASE("cli honest: a bare glTF's placed lights light it; a scene file that leaves them out says how many") {
+    // The Box with one point light placed 3 units in front of it.
+    const fs::path box = fs::path(TESSERA_SOURCE_DIR) / "scenes" / "khronos" / "Box" / "glTF";
+    nlohmann::json doc;
+    std::ifstream(box / "Box.gltf") >> doc;
+    doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"color", {1, 1, 1}}, {"intensity", 5}, {"range", 20}}};
+    doc["nodes"].push_back({{"translation", {0, 0, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    doc["scenes"][0]["nodes"].push_back(doc["nodes"].size() - 1);
+    const fs::path dir = scratch("gltf-lights");
+    fs::create_directories(dir);
+    fs::copy_file(box / "Box0.bin", dir / "Box0.bin", fs::copy_options::overwrite_existing);
+    std::ofstream(dir / "lit.gltf") << doc.dump();
+    std::ofstream(dir / "scene.json") << R"({"models": [{"path": "lit.gltf"}], "technique": "forward"})";
+
+    const Run bare = run("render " + (dir / "lit.gltf").string() + " --technique forward --width 32 --height 18 --out " +
+                         (dir / "bare.png").string());
+    INFO(bare.output);
+    CHECK(bare.exitCode == 0);
+    CHECK(bare.output.find("has no lights") == std::string::npos);
+    CHECK(run("info " + (dir / "lit.gltf").string()).output.find("lights      1 (point 1,") != std::string::npos);
+
+    const Run scene = run("render " + (dir / "scene.json").string() + " --width 32 --height 18 --out " + (dir / "scene.png").string());
+    INFO(scene.output);
+    CHECK(scene.exitCode == 0);
+    CHECK(occurrences(scene.output, "place 1 KHR_lights_punctual light(s), which this scene file leaves out") == 1);
+    const Run info = run("info " + (dir / "scene.json").string());
+    CHECK(info.output.find("lights      0 (point 0, spot 0, directional 0); 1 more placed by the glTF files, left out") !=
+          std::string::npos);
+}
+
 } // namespace tessera_test::cli_cli_honest_test

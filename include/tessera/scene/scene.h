@@ -40,6 +40,9 @@ struct Scene {
     std::vector<TextureBinding> textures;
     std::vector<Camera> cameras;
     std::vector<Light> lights;
+    // KHR_lights_punctual lights the glTF files place but the scene file leaves out (no
+    // "gltfLights"): counted so that the command line can say why they do not light the scene.
+    std::size_t gltfLightsNotUsed = 0;
 
     // World-space AABB of every instance's transformed positions.
     Bounds bounds() const;
