@@ -138,13 +138,40 @@ std::uint64_t saturatedPixels(const tessera::BufferRegistry& registry) {
     return n;
 }
 
+// The options of `technique` left at a faithful value that an erratum's correction changes, as
+// "key=value (#N)" with the remedy "--option key=corrected"; errata in `named` are left out (a
+// frame note already counts what they did). From the technique's option table, never its id.
+void faithfulChoices(const std::string& technique, const nlohmann::json& options, const std::vector<int>& named,
+                     std::vector<std::string>& labels, std::vector<std::string>& remedies) {
+    const tessera::TechniqueInfo* info = tessera::findTechnique(technique);
+    if (!info) return;
+    for (const tessera::OptionInfo& opt : info->options) {
+        if (opt.erratum == 0 || opt.corrected.empty()) continue;
+        if (std::find(named.begin(), named.end(), opt.erratum) != named.end()) continue;
+        const std::string faithful(opt.faithful.substr(0, opt.faithful.find(' ')));
+        if (faithful == opt.corrected) continue;  // a default that follows another option (forward-plus-amd's projection)
+        std::string value = faithful;
+        if (options.is_object() && options.contains(std::string(opt.key))) {
+            const nlohmann::json& given = options[std::string(opt.key)];
+            value = given.is_string() ? given.get<std::string>() : given.dump();
+            if (value != faithful) continue;  // corrected, or another value the user chose
+        }
+        labels.push_back(std::string(opt.key) + "=" + value + " (#" + std::to_string(opt.erratum) + ")");
+        remedies.push_back("--option " + std::string(opt.key) + "=" + std::string(opt.corrected));
+    }
+}
+
 // The frame's notes (frame/frame_notes.h) on stderr: one warning per kind a technique skipped or
 // clamped, with the count, the ERRATA.md row and what changes it; then one note naming what
-// visibly changes this image (the visible kinds, and pixels saturated to white) and the options
-// that correct it. Nothing about the technique is compared here: the records say it all.
-void printFrameNotes(const std::string& technique, const tessera::FrameNotes& notes, const tessera::BufferRegistry& registry) {
+// visibly changes this image (the visible kinds, and pixels saturated to white), the faithful
+// choices still in effect that an erratum's correction changes (the option table's), and the
+// options that correct them. Nothing about the technique is compared here: the records say it all.
+void printFrameNotes(const std::string& technique, const nlohmann::json& options, const tessera::FrameNotes& notes,
+                     const tessera::BufferRegistry& registry) {
     std::vector<std::string> visible, remedies;
+    std::vector<int> named;
     for (const tessera::FrameNote& n : notes.list()) {
+        if (n.erratum) named.push_back(n.erratum);
         warn(technique + ": " + tessera::noteText(n));
         if (!n.visible) continue;
         const std::size_t cut = n.what.find_first_of(":(");
@@ -157,9 +184,19 @@ void printFrameNotes(const std::string& technique, const tessera::FrameNotes& no
     if (const std::uint64_t saturated = saturatedPixels(registry))
         visible.push_back(std::to_string(saturated) + " pixels saturated to white (light past the 8-bit back buffer's 1.0, clipped; "
                                                       "the sources have no tone mapping)");
-    if (visible.empty()) return;
-    std::string text = "what changes this image visibly: ";
-    for (std::size_t i = 0; i < visible.size(); ++i) text += (i ? "; " : "") + visible[i];
+    std::vector<std::string> faithful;
+    faithfulChoices(technique, options, named, faithful, remedies);
+    if (visible.empty() && faithful.empty()) return;
+    std::string text;
+    if (!visible.empty()) {
+        text = "what changes this image visibly: ";
+        for (std::size_t i = 0; i < visible.size(); ++i) text += (i ? "; " : "") + visible[i];
+    }
+    if (!faithful.empty()) {
+        text += text.empty() ? "faithful" : ". Faithful";
+        text += " to the source, each of which may change it (tessera report measures how much): ";
+        for (std::size_t i = 0; i < faithful.size(); ++i) text += (i ? ", " : "") + faithful[i];
+    }
     if (!remedies.empty()) {
         text += ". Corrected:";
         for (const std::string& r : remedies) text += " " + r;
@@ -456,7 +493,7 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
         written.insert(written.begin(), runs.afterWritten.begin(), runs.afterWritten.end());
         written.insert(written.begin(), lightWritten.begin(), lightWritten.end());
         progress.finish();
-        if (!o.quiet && !o.probeJson) printFrameNotes(desc.technique, notes, registry);  // --json: one JSON object
+        if (!o.quiet && !o.probeJson) printFrameNotes(desc.technique, ctx.options, notes, registry);  // --json: one JSON object
         if (o.stats) printSceneStats(loaded, resources, texturesMs, runs, o, drawStats, registry, variantCounts, written, &staging);
         if (history) {
             history->addTileInfo(registry, lightGridTileSize(desc), scene.lights.size());

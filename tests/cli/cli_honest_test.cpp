@@ -168,6 +168,36 @@ TEST_CASE("cli honest: one note per render names what visibly changes the image:
     CHECK(fixed.output.find("alphaTest") == std::string::npos);
 }
 
+// A technique that counts nothing still names its faithful choices: deferred-cookbook's defaults
+// include the chapter's directional quad over the background (#26) and the table's cull mode (#23),
+// which change two thirds and a third of the default scene's pixels (measured with tessera diff).
+// Each erratum option at its faithful value is named once, with its correction; a corrected one is not.
+TEST_CASE("cli honest: the note names every technique's faithful erratum choices in effect, from its option table") {
+    const fs::path out = scratch("note-cookbook.png");
+    const Run r = run("render default --technique deferred-cookbook --width 64 --height 36 --out " + out.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(occurrences(r.output, "tessera: note: ") == 1);
+    for (const char* named : {"background=book (#26)", "volumeCull=table (#23)", "specPowerUnpack=printed (#22)",
+                              "--option background=stencil", "--option volumeCull=front"})
+        CHECK_MESSAGE(occurrences(r.output, named) == 1, named);
+    const Run corrected = run("render default --technique deferred-cookbook --option background=stencil --width 64 --height 36 --out " +
+                              out.string());
+    CHECK(corrected.output.find("background=book") == std::string::npos);
+    CHECK(corrected.output.find("--option background=stencil") == std::string::npos);
+    CHECK(corrected.output.find("volumeCull=table (#23)") != std::string::npos);
+    // Every technique with an erratum option gets the note (preview has none).
+    for (const std::string technique : {"forward", "deferred", "deferred-killzone", "forward-plus", "tiled-deferred",
+                                        "deferred-classic", "light-prepass", "forward-plus-amd"}) {
+        CAPTURE(technique);
+        const Run t = run("render default --technique " + technique + " --width 32 --height 18 --out " + out.string());
+        CHECK(t.exitCode == 0);
+        CHECK(occurrences(t.output, "tessera: note: ") == 1);
+        CHECK(t.output.find("Corrected: ") != std::string::npos);
+        CHECK(t.output.find(" --option ") != std::string::npos);
+    }
+}
+
 TEST_CASE("cli honest: the report's why column comes from each run's counts and faithful options: killzone #6, deferred #2") {
     const fs::path dir = scratch("report");
     fs::remove_all(dir);
