@@ -407,6 +407,10 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
                 if (fwd.notes && eyeInsideLightVolume(fwd.lightsExact[i]))
                     fwd.notes->add({"eye-inside-volume", "lights skipped: the eye is inside their volume, whose clipped front faces mark nothing",
                                     1, 6, "--technique deferred", true});
+                else if (fwd.notes && passed > 0)  // marked samples the threshold (an option) left unshaded
+                    fwd.notes->add({"below-query-threshold",
+                                    "lights skipped: their occlusion query passed samples, but not more than \"threshold\"", 1, 0,
+                                    "--option threshold=0", true});
             }
         }
     }
