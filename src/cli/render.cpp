@@ -341,6 +341,17 @@ LoadedScene loadForRender(RenderOptions& o, Progress& progress) {
                          sceneFile.string().c_str());
     }
     if (const auto depth = tessera::depthPrecisionWarning(camera, scene.bounds())) warn(sceneFile.string() + ": " + *depth);
+    // COLOR_0 is loaded but no shader applies it (README "glTF conformance"): a primitive whose
+    // vertex colours are not all white renders differently from a glTF viewer's, so say so.
+    std::size_t coloured = 0;
+    for (const tessera::Mesh& mesh : scene.meshes)
+        for (const tessera::MeshPrimitive& prim : mesh.primitives)
+            coloured += std::any_of(prim.colors0.begin(), prim.colors0.end(), [](const glm::vec4& c) { return c != glm::vec4(1.0f); })
+                            ? 1u
+                            : 0u;
+    if (coloured > 0)
+        warn(sceneFile.string() + ": " + std::to_string(coloured) + " primitive(s) carry COLOR_0 vertex colours, which tessera does "
+             "not apply (the 3dgep material has none; README \"glTF conformance\"): they render with the base colour alone");
     if (scene.gltfLightsNotUsed > 0 && !(features & tessera::kOwnHeadLight))
         warn(sceneFile.string() + ": its glTF files place " + std::to_string(scene.gltfLightsNotUsed) +
              " KHR_lights_punctual light(s), which this scene file leaves out; \"gltfLights\": {\"enabled\": true} uses them");

@@ -454,4 +454,38 @@ TEST_CASE("cli honest: a bare glTF's placed lights light it; a scene file that l
           std::string::npos);
 }
 
+// COLOR_0 is not applied (README "glTF conformance"): a primitive with vertex colours other than
+// white renders with its base colour alone, and `render` says so once; the Box without them says nothing.
+TEST_CASE("cli honest: COLOR_0 vertex colours are warned, not applied") {
+    const fs::path box = fs::path(TESSERA_SOURCE_DIR) / "scenes" / "khronos" / "Box" / "glTF";
+    nlohmann::json doc;
+    std::ifstream(box / "Box.gltf") >> doc;
+    // A COLOR_0 accessor of 24 red VEC3 floats in a second buffer (the Box has 24 vertices).
+    const std::size_t vertices = doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]["count"];
+    std::vector<std::uint8_t> bytes;
+    for (std::size_t v = 0; v < vertices; ++v)
+        for (const float c : {1.0f, 0.0f, 0.0f}) {
+            const auto* b = reinterpret_cast<const std::uint8_t*>(&c);
+            bytes.insert(bytes.end(), b, b + 4);
+        }
+    const fs::path dir = scratch("gltf-color");
+    fs::create_directories(dir);
+    fs::copy_file(box / "Box0.bin", dir / "Box0.bin", fs::copy_options::overwrite_existing);
+    std::ofstream(dir / "red.bin", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    doc["buffers"].push_back({{"uri", "red.bin"}, {"byteLength", bytes.size()}});
+    doc["bufferViews"].push_back({{"buffer", doc["buffers"].size() - 1}, {"byteLength", bytes.size()}});
+    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"}});
+    doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = doc["accessors"].size() - 1;
+    std::ofstream(dir / "red.gltf") << doc.dump();
+    const Run red = run("render " + (dir / "red.gltf").string() + " --technique forward --width 32 --height 18 --out " +
+                        (dir / "red.png").string());
+    INFO(red.output);
+    CHECK(red.exitCode == 0);
+    CHECK(occurrences(red.output, "1 primitive(s) carry COLOR_0 vertex colours, which tessera does not apply") == 1);
+    const Run plain = run("render " + (box / "Box.gltf").string() + " --technique forward --width 32 --height 18 --out " +
+                          (dir / "plain.png").string());
+    CHECK(plain.exitCode == 0);
+    CHECK(plain.output.find("COLOR_0") == std::string::npos);
+}
+
 } // namespace tessera_test::cli_cli_honest_test
