@@ -76,16 +76,10 @@ Frame buildDeferredClassic(const TechniqueContext& ctx) {
     const std::vector<std::string> targets =
         optimized ? std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular"}
                   : std::vector<std::string>{"gbuffer.normal", "gbuffer.diffuse", "gbuffer.specular", "gbuffer.position"};
-    std::vector<std::string> gbuffer = targets;
-    gbuffer.emplace_back("depth");
-    std::vector<std::string> gbufferWrites = gbuffer;
-    if (msaa) {
-        gbufferWrites.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
-        gbufferWrites.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
-    }
-    std::vector<std::string> created = gbufferWrites;
-    if (msaa) created.emplace_back(gbuffer_detail::kEdgesBuffer);
-    created.push_back(back);
+    const prc_light_pass::GBufferNames names = prc_light_pass::gbufferNames(targets, samples);
+    const std::vector<std::string>& gbuffer = names.gbuffer;
+    const std::vector<std::string>& gbufferWrites = names.writes;
+    std::vector<std::string> created = names.created;
     if (reference) {
         created.emplace_back("accumulation");
         created.push_back(backReference);

@@ -148,16 +148,10 @@ Frame buildLightPrePass(const TechniqueContext& ctx) {
     const std::string back = backBufferTarget(samples), backReference = referenceBufferTarget(samples);
     // Listing 11.4's two targets: (world normal, specular power), (world position, 1).
     const std::vector<std::string> targets{"gbuffer.normal", "gbuffer.position"};
-    std::vector<std::string> gbuffer = targets;
-    gbuffer.emplace_back("depth");
-    std::vector<std::string> gbufferWrites = gbuffer;
-    if (msaa) {
-        gbufferWrites.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
-        gbufferWrites.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
-    }
-    std::vector<std::string> created = gbufferWrites;
-    if (msaa) created.emplace_back(gbuffer_detail::kEdgesBuffer);
-    created.push_back(back);
+    const prc_light_pass::GBufferNames names = prc_light_pass::gbufferNames(targets, samples);
+    const std::vector<std::string>& gbuffer = names.gbuffer;
+    const std::vector<std::string>& gbufferWrites = names.writes;
+    std::vector<std::string> created = names.created;
     created.emplace_back("lightbuffer");
     if (reference) created.push_back(backReference);
     Frame frame;

@@ -248,6 +248,21 @@ std::shared_ptr<Setup> makeSetup(const TechniqueContext& ctx, const Options& opt
     return setup;
 }
 
+GBufferNames gbufferNames(const std::vector<std::string>& targets, std::uint32_t samples) {
+    GBufferNames n;
+    n.gbuffer = targets;
+    n.gbuffer.emplace_back("depth");
+    n.writes = n.gbuffer;
+    if (samples > 1) {
+        n.writes.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
+        n.writes.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
+    }
+    n.created = n.writes;
+    if (samples > 1) n.created.emplace_back(gbuffer_detail::kEdgesBuffer);
+    n.created.push_back(backBufferTarget(samples));
+    return n;
+}
+
 PassState gbufferPassState(const Setup& setup) {
     PassState pass;
     pass.depthStencil.depthFunc = ComparisonFunc::Less;

@@ -86,6 +86,14 @@ struct Setup {
 std::shared_ptr<Setup> makeSetup(const TechniqueContext& ctx, const Options& options, bool lightPrePass, bool optimized,
                                  bool safeNormals, const std::string& file);
 
+// The buffer names of a G-buffer layout: `gbuffer` its targets and "depth" (what the light pass
+// reads), `writes` those and, with MSAA, the edge detectors' inputs (what the G-buffer pass
+// writes), `created` those, the edges buffer with MSAA and the back buffer (what "clear" creates).
+struct GBufferNames {
+    std::vector<std::string> gbuffer, writes, created;
+};
+GBufferNames gbufferNames(const std::vector<std::string>& targets, std::uint32_t samples);
+
 // The G-buffer pass's depth-stencil state: LESS, and the lit-geometry mask or each item's light
 // groups as the stencil reference (§11.4.2).
 PassState gbufferPassState(const Setup& setup);
