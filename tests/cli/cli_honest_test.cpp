@@ -423,7 +423,7 @@ TEST_CASE("cli honest: --generated-bitangent down changes a render whose normal 
 // A glTF's own KHR_lights_punctual lights: a bare .gltf is lit by them (as a glTF viewer lights it,
 // not by the default rig), and a scene file that leaves them out (no "gltfLights") says so in
 // `render` and `info` instead of calling the scene unlit.
-TEST_CASE("cli honest: a bare glTF's placed lights light it; a scene file that leaves them out says how many") {
+TEST_CASE("cli honest: a bare glTF's placed lights light it, and a scene file that leaves them out says how many") {
     // The Box with one point light placed 3 units in front of it.
     const fs::path box = fs::path(TESSERA_SOURCE_DIR) / "scenes" / "khronos" / "Box" / "glTF";
     nlohmann::json doc;
