@@ -138,25 +138,14 @@ std::uint64_t saturatedPixels(const tessera::BufferRegistry& registry) {
     return n;
 }
 
-// The options of `technique` left at a faithful value that an erratum's correction changes, as
-// "key=value (#N)" with the remedy "--option key=corrected"; errata in `named` are left out (a
-// frame note already counts what they did). From the technique's option table, never its id.
-void faithfulChoices(const std::string& technique, const nlohmann::json& options, const std::vector<int>& named,
-                     std::vector<std::string>& labels, std::vector<std::string>& remedies) {
-    const tessera::TechniqueInfo* info = tessera::findTechnique(technique);
-    if (!info) return;
-    for (const tessera::OptionInfo& opt : info->options) {
-        if (opt.erratum == 0 || opt.corrected.empty()) continue;
+// The faithful choices (option_catalog.h) not already named by a frame note's erratum, as
+// "key=value (#N)", with the remedy "--option key=corrected".
+void faithfulChoiceNotes(const std::string& technique, const nlohmann::json& options, const std::vector<int>& named,
+                         std::vector<std::string>& labels, std::vector<std::string>& remedies) {
+    for (const tessera::FaithfulChoice& c : tessera::faithfulChoices(tessera::techniqueOptions(technique), options)) {
+        const tessera::OptionInfo& opt = *c.option;
         if (std::find(named.begin(), named.end(), opt.erratum) != named.end()) continue;
-        const std::string faithful(opt.faithful.substr(0, opt.faithful.find(' ')));
-        if (faithful == opt.corrected) continue;  // a default that follows another option (forward-plus-amd's projection)
-        std::string value = faithful;
-        if (options.is_object() && options.contains(std::string(opt.key))) {
-            const nlohmann::json& given = options[std::string(opt.key)];
-            value = given.is_string() ? given.get<std::string>() : given.dump();
-            if (value != faithful) continue;  // corrected, or another value the user chose
-        }
-        labels.push_back(std::string(opt.key) + "=" + value + " (#" + std::to_string(opt.erratum) + ")");
+        labels.push_back(std::string(opt.key) + "=" + c.value + " (#" + std::to_string(opt.erratum) + ")");
         remedies.push_back("--option " + std::string(opt.key) + "=" + std::string(opt.corrected));
     }
 }
@@ -185,7 +174,7 @@ void printFrameNotes(const std::string& technique, const nlohmann::json& options
         visible.push_back(std::to_string(saturated) + " pixels saturated to white (light past the 8-bit back buffer's 1.0, clipped; "
                                                       "the sources have no tone mapping)");
     std::vector<std::string> faithful;
-    faithfulChoices(technique, options, named, faithful, remedies);
+    faithfulChoiceNotes(technique, options, named, faithful, remedies);
     if (visible.empty() && faithful.empty()) return;
     std::string text;
     if (!visible.empty()) {

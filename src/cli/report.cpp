@@ -69,15 +69,8 @@ std::string differenceNote(std::string_view technique, const nlohmann::json& opt
     const auto append = [&out](const std::string& part) { out += (out.empty() ? "" : "; ") + part; };
     for (const FrameNote& n : notes.list()) append(noteText(n));
     std::string faithful;
-    for (const OptionInfo& option : techniqueOptions(technique)) {
-        if (option.erratum == 0 || option.corrected.empty()) continue;
-        std::string value(option.faithful);
-        if (options.is_object())
-            if (const auto it = options.find(std::string(option.key)); it != options.end())
-                value = it->is_string() ? it->get<std::string>() : it->dump();
-        if (value != option.faithful) continue;
-        faithful += (faithful.empty() ? "" : ", ") + std::string(option.key) + "=" + value + " (#" + std::to_string(option.erratum) + ")";
-    }
+    for (const FaithfulChoice& c : faithfulChoices(techniqueOptions(technique), options))
+        faithful += (faithful.empty() ? "" : ", ") + std::string(c.option->key) + "=" + c.value + " (#" + std::to_string(c.option->erratum) + ")";
     if (!faithful.empty()) append("faithful options in effect: " + faithful);
     return out.empty() ? "nothing counted; no faithful option with an erratum" : out + ".";
 }

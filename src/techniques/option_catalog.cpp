@@ -20,6 +20,21 @@ bool listed(const OptionInfo& option, std::string_view text) {
 
 } // namespace
 
+std::vector<FaithfulChoice> faithfulChoices(std::span<const OptionInfo> table, const nlohmann::json& options) {
+    std::vector<FaithfulChoice> out;
+    for (const OptionInfo& option : table) {
+        if (option.erratum == 0 || option.corrected.empty()) continue;
+        const std::string faithful(option.faithful.substr(0, option.faithful.find(' ')));
+        if (faithful == option.corrected) continue;
+        std::string value = faithful;
+        if (options.is_object())
+            if (const auto it = options.find(std::string(option.key)); it != options.end())
+                value = it->is_string() ? it->get<std::string>() : it->dump();
+        if (value == faithful) out.push_back({&option, value});
+    }
+    return out;
+}
+
 std::string optionValuesText(const OptionInfo& option) {
     if (option.kind == Kind::Number)
         return "number in [" + nlohmann::json(option.minNumber).dump() + ", " + nlohmann::json(option.maxNumber).dump() + "]";

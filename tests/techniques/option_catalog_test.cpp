@@ -197,4 +197,21 @@ TEST_CASE("technique registry: every pass of every option value, sample count an
     }
 }
 
+// The faithful choices the render note and the report's "why" column name: forward's two erratum
+// options at their defaults (table order), one fewer when the run corrects it; forward-plus-amd's
+// projection, whose default follows its shading, never.
+TEST_CASE("option catalogue: faithful choices are the erratum options a run leaves at their faithful value") {
+    const auto keys = [](std::string_view id, const nlohmann::json& options) {
+        std::vector<std::string> out;
+        for (const FaithfulChoice& c : faithfulChoices(techniqueOptions(id), options))
+            out.push_back(std::string(c.option->key) + "=" + c.value);
+        return out;
+    };
+    CHECK(keys("forward", nlohmann::json::object()) == std::vector<std::string>{"projection=demo-gl", "alphaTest=false"});
+    CHECK(keys("forward", {{"alphaTest", true}}) == std::vector<std::string>{"projection=demo-gl"});
+    CHECK(keys("forward", {{"alphaTest", false}, {"projection", "d3d"}}) == std::vector<std::string>{"alphaTest=false"});
+    for (const std::string& k : keys("forward-plus-amd", nlohmann::json::object())) CHECK(k.rfind("projection=", 0) != 0);
+    CHECK(keys("preview", nlohmann::json::object()).empty());
+}
+
 } // namespace tessera_test::techniques_option_catalog_test

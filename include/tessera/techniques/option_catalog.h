@@ -14,6 +14,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -86,6 +87,18 @@ constexpr std::array<OptionInfo, N + 1> withOption(const std::array<OptionInfo, 
 
 // Why `value` is not a value of `option` ("'x' is not one of a, b"), or nullopt when it is.
 std::optional<std::string> optionValueProblem(const OptionInfo& option, const nlohmann::json& value);
+
+// An option of a table left at its faithful value where an erratum's correction would change it:
+// the option and the value in effect (its faithful default's first word).
+struct FaithfulChoice {
+    const OptionInfo* option = nullptr;
+    std::string value;
+};
+// The options of `table` with an erratum and a correction that `options` (the run's JSON options)
+// leaves at the faithful value, in table order. A default that follows another option (its first
+// word equals the correction, as forward-plus-amd's projection) is left out. The render note and
+// the report's "why" column both read this.
+std::vector<FaithfulChoice> faithfulChoices(std::span<const OptionInfo> table, const nlohmann::json& options);
 
 // "demo-gl | d3d", "false | true", "integer >= 1 | unbounded", "integer in 1..4096": the accepted values as one line.
 std::string optionValuesText(const OptionInfo& option);
