@@ -15,6 +15,7 @@
 #include <tessera/frame/buffer_registry.h>
 #include <tessera/techniques/technique.h>
 
+#include "support/grey_fill_technique.h"
 #include "support/room_scene.h"
 
 namespace tessera_test::techniques_technique_registry {
@@ -23,30 +24,10 @@ using namespace tessera;
 
 namespace {
 
-// Two passes: "clear" (a shared caption) creates the back buffer, "fill" (its own) writes the
-// option "grey" (0, 128 or 255: a code of the UNORM target) over every pixel.
-Frame buildGreyFill(const TechniqueContext& ctx) {
-    const float grey = float(ctx.options.value("grey", 128)) / 255.0f;
-    const SurfaceDesc desc{ctx.width, ctx.height, Format::R8G8B8A8_UNORM, 1};
-    const std::string back(kBackBufferName);
-    Frame frame;
-    frame.add({"clear", {}, {back}, [desc, back](BufferRegistry& reg) { reg.create(back, desc).clearColor(glm::vec4(0.0f)); }});
-    frame.add({"fill", {back}, {back}, [grey, back](BufferRegistry& reg) { reg.get(back).clearColor(glm::vec4(grey, grey, grey, 1.0f)); }});
-    return frame;
-}
+using test::kGreyFill;
+using test::kGreyPasses;
 
-constexpr std::array<std::string_view, 3> kGreyValues{"128", "0", "255"};
-constexpr std::array<OptionInfo, 1> kGreyOptions{
-    OptionInfo{"grey", OptionInfo::Kind::Integer, kGreyValues, -1, "128", "", 0, "the grey level the fill writes"}};
-constexpr std::array<PassCaption, 1> kGreyPasses{{{"fill", "Writes one grey level over the back buffer (a test's technique)."}}};
-const TechniqueInfo kGreyFill{"test-grey-fill", "one grey level", "tests/techniques/technique_registry_test.cpp", &buildGreyFill,
-                              kGreyOptions, kGreyPasses, TexturePolicy::Gltf, false, 0, 0};
-
-// Once per process: doctest may run this file's cases in one process or one per case (ctest).
-const TechniqueInfo& registered() {
-    if (!findTechnique(kGreyFill.id)) registerTechnique(kGreyFill);
-    return *findTechnique(kGreyFill.id);
-}
+const TechniqueInfo& registered() { return test::registerGreyFill(); }
 
 TechniqueContext contextFor(const SceneResources& resources, Device& device, nlohmann::json options) {
     TechniqueContext ctx;
