@@ -4,7 +4,6 @@
 // ones are, without any change to the library, the command line or the benchmarks.
 #include <doctest/doctest.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,8 +26,6 @@ namespace {
 using test::kGreyFill;
 using test::kGreyPasses;
 
-const TechniqueInfo& registered() { return test::registerGreyFill(); }
-
 TechniqueContext contextFor(const SceneResources& resources, Device& device, nlohmann::json options) {
     TechniqueContext ctx;
     ctx.device = &device;
@@ -42,7 +39,7 @@ TechniqueContext contextFor(const SceneResources& resources, Device& device, nlo
 } // namespace
 
 TEST_CASE("technique registry: a technique registered at run time is listed, built, optioned, captioned and estimated") {
-    const TechniqueInfo& info = registered();
+    const TechniqueInfo& info = test::registerGreyFill();
     int listed = 0;
     for (const TechniqueInfo& t : techniques()) listed += t.id == "test-grey-fill" ? 1 : 0;
     CHECK(listed == 1);
@@ -80,7 +77,7 @@ TEST_CASE("technique registry: a technique registered at run time is listed, bui
 }
 
 TEST_CASE("technique registry: a registration without an id or a build function, or with a taken id, is refused") {
-    registered();
+    test::registerGreyFill();
     CHECK_THROWS_AS(registerTechnique(kGreyFill), std::invalid_argument);  // taken
     TechniqueInfo noId = kGreyFill;
     noId.id = "";
@@ -98,7 +95,7 @@ TEST_CASE("technique registry: a registration without an id or a build function,
 // made-up technique, saved with the built-in ones as `tessera options --json` prints them, is swept
 // with its defaults and (--full) each other listed value of its option, with no edit to bench/.
 TEST_CASE("technique registry: a technique registered at run time is swept by bench/sweep.py") {
-    (void)registered();
+    (void)test::registerGreyFill();
     const nlohmann::json json = techniqueRegistryJson();
     const nlohmann::json* mine = nullptr;
     for (const nlohmann::json& t : json)

@@ -151,26 +151,31 @@ std::string decodeImage(const unsigned char* bytes, std::size_t size, const std:
     if (headerOnly) return {};
     const int channels = std::min(spec.nchannels, 4);
     const std::size_t texels = std::size_t(image.width) * image.height;
-    std::vector<std::uint8_t> raw(texels * std::size_t(channels));
     // An 8-bit file with at most 4 channels (every PNG and JPEG texture in practice) is read in its
-    // native layout, straight into `raw`: asking OpenImageIO 2.4 for a type, even the file's own,
-    // sends ImageInput::read_scanlines through a staging buffer of the whole image, allocated and
-    // freed per image (under AddressSanitizer a fresh mapping each time: a third of loading Sponza).
-    // The bytes are the same: UINT8 to UINT8 is a copy.
+    // native layout: asking OpenImageIO 2.4 for a type, even the file's own, sends
+    // ImageInput::read_scanlines through a staging buffer of the whole image, allocated and freed per
+    // image (under AddressSanitizer a fresh mapping each time: a third of loading Sponza). The bytes
+    // are the same: UINT8 to UINT8 is a copy.
     const bool native8 = spec.format == OIIO::TypeDesc::UINT8 && spec.channelformats.empty() && spec.nchannels == channels;
-    if (!input->read_image(0, 0, 0, channels, native8 ? OIIO::TypeDesc(OIIO::TypeDesc::UNKNOWN) : OIIO::TypeDesc(OIIO::TypeDesc::UINT8),
-                           raw.data())) {
+    const OIIO::TypeDesc type = native8 ? OIIO::TypeDesc(OIIO::TypeDesc::UNKNOWN) : OIIO::TypeDesc(OIIO::TypeDesc::UINT8);
+    // One buffer: the file's c channels land at the front of rgba8 and are widened to RGBA in place,
+    // from the last texel back. Texel i is copied out before it is written, and the texels below it
+    // lie below byte c * i <= 4 * i, which no write of texel i or above reaches.
+    image.rgba8.resize(texels * 4);
+    if (!input->read_image(0, 0, 0, channels, type, image.rgba8.data())) {
+        image.rgba8.clear();
         return "cannot decode the image: " + input->geterror();
     }
-    image.rgba8.resize(texels * 4);
-    for (std::size_t i = 0; i < texels; ++i) {
-        const std::uint8_t* in = &raw[i * std::size_t(channels)];
-        std::uint8_t* out = &image.rgba8[i * 4];
-        switch (channels) {
-        case 1: out[0] = out[1] = out[2] = in[0]; out[3] = 255; break;
-        case 2: out[0] = out[1] = out[2] = in[0]; out[3] = in[1]; break;
-        case 3: out[0] = in[0]; out[1] = in[1]; out[2] = in[2]; out[3] = 255; break;
-        default: std::memcpy(out, in, 4); break;
+    if (channels < 4) {
+        for (std::size_t i = texels; i-- > 0;) {
+            std::uint8_t in[3];
+            std::memcpy(in, &image.rgba8[i * std::size_t(channels)], std::size_t(channels));
+            std::uint8_t* out = &image.rgba8[i * 4];
+            switch (channels) {
+            case 1: out[0] = out[1] = out[2] = in[0]; out[3] = 255; break;
+            case 2: out[0] = out[1] = out[2] = in[0]; out[3] = in[1]; break;
+            default: out[0] = in[0]; out[1] = in[1]; out[2] = in[2]; out[3] = 255; break;
+            }
         }
     }
     return {};
