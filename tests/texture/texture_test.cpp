@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <tessera/buffers/conversion.h>
@@ -284,6 +285,61 @@ TEST_CASE("texture: LOD from derivatives: log2 of the longer footprint axis in t
         CHECK(calculateLodUnclamped(t, {std::ldexp(1.0f, e) / 64, 0}, {0, 0}) == float(e));
     for (float texels = 0.01f; texels < 5000.0f; texels *= 1.37f)
         CHECK(calculateLodUnclamped(t, {texels / 64, 0}, {0, 0}) == doctest::Approx(std::log2(texels)).epsilon(1e-6));
+}
+
+// sampling.cpp keeps each thread's last few (size, derivatives) -> LOD results. A fresh thread's
+// memo is empty, so there every LOD is computed: the oracle. Here one thread walks a sequence
+// whose keys differ from each other in one argument at a time (width, height, each derivative
+// component, the sign of a zero, NaN) and repeat at distances below and above the memo's
+// capacity; every LOD must equal the cold thread's, bit for bit.
+TEST_CASE("texture: a repeated LOD is the LOD computed afresh: the per-thread memo keys on every argument") {
+    const Texture2D square = blankTexture(64, 64), tall = blankTexture(64, 128), wide = blankTexture(128, 64);
+    const Texture2D* textures[3] = {&square, &tall, &wide};
+    const float values[] = {1.0f / 64, 3.0f / 64, -1.0f / 64, 0.0f, -0.0f, 1e-30f, 7.5f, kNaN};
+    struct Query {
+        const Texture2D* texture;
+        glm::vec2 ddx, ddy;
+    };
+    std::vector<Query> queries;
+    std::uint32_t state = 12345u;  // a fixed LCG: the same sequence every run
+    auto next = [&](std::uint32_t n) {
+        state = state * 1664525u + 1013904223u;
+        return (state >> 8) % n;
+    };
+    for (int i = 0; i < 4000; ++i) {
+        if (i < 8) {
+            queries.push_back(Query{textures[next(3)], {values[next(8)], values[next(8)]}, {values[next(8)], values[next(8)]}});
+            continue;
+        }
+        // A recent query, 1..8 back (the memo holds 4): repeated as it is, or with one argument changed.
+        Query q = queries[queries.size() - 1 - next(8)];
+        switch (next(6)) {
+        case 0: q.texture = textures[next(3)]; break;
+        case 1: q.ddx.x = values[next(8)]; break;
+        case 2: q.ddx.y = values[next(8)]; break;
+        case 3: q.ddy.x = values[next(8)]; break;
+        case 4: q.ddy.y = values[next(8)]; break;
+        default: break;
+        }
+        queries.push_back(q);
+    }
+    std::vector<float> cold(queries.size());
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+        std::thread fresh([&] { cold[i] = calculateLodUnclamped(*queries[i].texture, queries[i].ddx, queries[i].ddy); });
+        fresh.join();
+    }
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+        const float warm = calculateLodUnclamped(*queries[i].texture, queries[i].ddx, queries[i].ddy);
+        INFO("query " << i);
+        CHECK(std::bit_cast<std::uint32_t>(warm) == std::bit_cast<std::uint32_t>(cold[i]));
+    }
+    // The same derivatives on textures of other sizes: 64 x 64 gives 0, 64 x 128 and 128 x 64 give
+    // 1 (2 texels along the longer axis), in either order after each other.
+    const glm::vec2 ddx{1.0f / 64, 0.0f}, ddy{0.0f, 1.0f / 64};
+    CHECK(calculateLodUnclamped(square, ddx, ddy) == 0.0f);
+    CHECK(calculateLodUnclamped(tall, ddx, ddy) == 1.0f);
+    CHECK(calculateLodUnclamped(wide, ddx, ddy) == 1.0f);
+    CHECK(calculateLodUnclamped(square, ddx, ddy) == 0.0f);
 }
 
 TEST_CASE("texture: LOD bias and clamps: MipLODBias, MinLOD/MaxLOD, [0, levels - 1] (§7.18.11)") {
