@@ -63,7 +63,7 @@ constexpr std::size_t kLodMemoEntries = 4;  // entries per thread, replaced roun
 struct LodMemo {
     struct Entry {
         std::uint32_t width = 0, height = 0;  // 0: empty (a bound texture has width >= 1)
-        std::array<std::uint32_t, 4> derivativeBits{};
+        std::uint64_t ddxBits = 0, ddyBits = 0;  // (x, y) bit patterns, x in the low half
         float lod = 0.0f;
     };
     std::array<Entry, kLodMemoEntries> entries{};
@@ -73,13 +73,15 @@ thread_local LodMemo tLodMemo;
 
 float lodFromDerivatives(const Texture2D& texture, glm::vec2 ddxUv, glm::vec2 ddyUv) {
     const std::uint32_t width = texture.width(0), height = texture.height(0);
-    const std::array<std::uint32_t, 4> bits{std::bit_cast<std::uint32_t>(ddxUv.x), std::bit_cast<std::uint32_t>(ddxUv.y),
-                                            std::bit_cast<std::uint32_t>(ddyUv.x), std::bit_cast<std::uint32_t>(ddyUv.y)};
+    const auto bitsOf = [](glm::vec2 v) {
+        return std::uint64_t(std::bit_cast<std::uint32_t>(v.x)) | (std::uint64_t(std::bit_cast<std::uint32_t>(v.y)) << 32);
+    };
+    const std::uint64_t ddxBits = bitsOf(ddxUv), ddyBits = bitsOf(ddyUv);
     LodMemo& memo = tLodMemo;
     for (const LodMemo::Entry& e : memo.entries)
-        if (e.width == width && e.height == height && e.derivativeBits == bits) return e.lod;
+        if (e.width == width && e.height == height && e.ddxBits == ddxBits && e.ddyBits == ddyBits) return e.lod;
     const float lod = computeLodFromDerivatives(width, height, ddxUv, ddyUv);
-    memo.entries[memo.next] = LodMemo::Entry{width, height, bits, lod};
+    memo.entries[memo.next] = LodMemo::Entry{width, height, ddxBits, ddyBits, lod};
     memo.next = (memo.next + 1) % kLodMemoEntries;
     return lod;
 }
