@@ -32,7 +32,7 @@ Vec3<T> mulRowTbn(const Vec3<T>& v, const Vec3<T>& t, const Vec3<T>& b, const Ve
 }
 // The colour/texture rule: c = any(c.rgb) ? c * texel : texel (alpha included).
 template <class T>
-Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {
+[[gnu::always_inline]] inline Vec4<T> textureRule(const Vec4<T>& color, const Vec4<T>& texel) {  // inlined: see hlsl::normalize
     const bool any = color.x != T(0) || color.y != T(0) || color.z != T(0);
     return any ? color * texel : texel;
 }
