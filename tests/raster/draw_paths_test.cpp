@@ -3,6 +3,8 @@
 // no blend without blending, the sample count, exact or fast raster.
 #include <doctest/doctest.h>
 
+#include <cstring>
+#include <limits>
 #include <vector>
 
 #include <tessera/raster/device.h>
@@ -77,6 +79,79 @@ TEST_CASE("SetupStats::touched holds every pixel a draw wrote, and is empty when
     const std::vector<test::ColorVertex> off{{test::windowToClip(-30, -30, 40, 30)}, {test::windowToClip(-20, -30, 40, 30)},
                                              {test::windowToClip(-30, -20, 40, 30)}};
     CHECK(device.draw(st, rt, std::span<const test::ColorVertex>(off), {}, test::PassThroughVS{}, test::ColorPS{}).setup.touched.empty());
+}
+
+
+namespace {
+// Binds no colour target and writes nothing: the depth/stencil test runs with the vertex
+// shader's varyings interpolated, as a draw with a pixel shader runs it.
+struct NoTargetsPS {
+    using Varyings = test::ColorVaryings;
+    static constexpr int kTargetCount = 0;
+    void operator()(const PixelInput<test::ColorVaryings>&, PixelOutput<0>&) const {}
+};
+} // namespace
+
+// A draw without a pixel shader runs its vertex shader for the position alone (detail::PositionOnlyVS)
+// and sets up no varyings. The depth and stencil it leaves, and its setup counters, must be those
+// of the same draw with varyings: random triangles, some through the near plane (clipped, so new
+// vertices are interpolated), some far outside the guard band, some with NaN colours, on D24S8
+// with a depth test and stencil increments on pass and decrements on depth failure, at 1 and 4
+// samples.
+TEST_CASE("draw paths: a draw without a pixel shader sets up positions only, with the same depth, stencil and counters") {
+    constexpr std::uint32_t kSize = 48;  // px
+    std::uint32_t state = 7u;  // a fixed LCG: the same triangles every run
+    auto uniform = [&](float lo, float hi) {
+        state = state * 1664525u + 1013904223u;
+        return lo + (hi - lo) * float(state >> 8) / float(1u << 24);
+    };
+    std::vector<test::ColorVertex> tris;
+    for (int t = 0; t < 300; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const float w = t % 5 == 0 ? uniform(-0.5f, 2.0f) : uniform(0.5f, 2.0f);  // every fifth may cross w = 0
+            const float reach = t % 7 == 0 ? 4000.0f : 1.3f;  // every seventh reaches past the guard band
+            test::ColorVertex v;
+            v.posClip = glm::vec4(uniform(-reach, reach) * w, uniform(-reach, reach) * w, uniform(-0.2f, 1.1f) * w, w);
+            v.color = t % 11 == 0 ? glm::vec4(std::numeric_limits<float>::quiet_NaN()) : glm::vec4(uniform(0.0f, 1.0f));
+            tris.push_back(v);
+        }
+    for (const std::uint32_t samples : {1u, 4u}) {
+        DrawState st;
+        st.rasterizer.cullMode = CullMode::None;
+        st.depthStencil.depthEnable = true;
+        st.depthStencil.depthFunc = ComparisonFunc::Less;
+        st.depthStencil.stencilEnable = true;
+        const StencilFaceDesc face{StencilOp::Keep, StencilOp::Decr, StencilOp::Incr, ComparisonFunc::Always};
+        st.depthStencil.frontFace = face;
+        st.depthStencil.backFace = face;
+        Surface withVaryings({kSize, kSize, Format::D24_UNORM_S8_UINT, samples});
+        Surface positionsOnly({kSize, kSize, Format::D24_UNORM_S8_UINT, samples});
+        st.viewport = fullViewport(withVaryings);
+        DrawStats stats[2];
+        for (int path = 0; path < 2; ++path) {
+            Surface& depth = path == 0 ? withVaryings : positionsOnly;
+            depth.clearDepthStencil(true, 1.0f, true, 128);
+            RenderTargets rt;
+            rt.depthStencil = &depth;
+            Device device(DeviceConfig{16, 2});
+            const std::span<const test::ColorVertex> vertices(tris);
+            stats[path] = path == 0 ? device.draw(st, rt, vertices, {}, test::PassThroughVS{}, NoTargetsPS{})
+                                    : device.draw(st, rt, vertices, {}, test::PassThroughVS{}, NoPixelShader{});
+        }
+        INFO(samples << " samples");
+        CHECK(stats[0].setup.clipped > 0);
+        CHECK(stats[0].setup.culledNonFinite + stats[0].setup.culledDegenerate < stats[0].setup.trianglesIn);
+        CHECK(stats[0].samplesPassed > 0);
+        CHECK(std::memcmp(withVaryings.bytes().data(), positionsOnly.bytes().data(), withVaryings.bytes().size()) == 0);
+        CHECK(stats[1].setup.trianglesIn == stats[0].setup.trianglesIn);
+        CHECK(stats[1].setup.trianglesOut == stats[0].setup.trianglesOut);
+        CHECK(stats[1].setup.clipped == stats[0].setup.clipped);
+        CHECK(stats[1].setup.culledNonFinite == stats[0].setup.culledNonFinite);
+        CHECK(stats[1].setup.culledDegenerate == stats[0].setup.culledDegenerate);
+        CHECK(stats[1].samplesPassed == stats[0].samplesPassed);
+        CHECK(stats[1].quads == stats[0].quads);
+        CHECK(stats[1].binnedTileTriangles == stats[0].binnedTileTriangles);
+    }
 }
 
 } // namespace tessera_test::raster_draw_paths_test

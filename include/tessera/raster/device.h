@@ -107,6 +107,12 @@ public:
     void setShadeCounts(ShadeCounts* counts) { mShadeCounts = counts; }
 
 private:
+    // draw() after choosing the vertex stage: a draw without a pixel shader runs its vertex shader
+    // for the position alone (detail::PositionOnlyVS).
+    template <class Vertex, class VS, PixelShaderOrNone PS>
+    DrawStats drawImpl(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
+                       std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, OcclusionQuery* query);
+
     DeviceConfig mConfig;
     PixelWatch* mWatch = nullptr;
     ShadeCounts* mShadeCounts = nullptr;

@@ -914,6 +914,20 @@ private:
     TriangleEdges mEdges;
 };
 
+// A draw without a pixel shader reads no varying: its vertex shader is run for the position
+// alone (the varyings it computes are dead code once inlined) and setup stores none. Positions,
+// clipping and setup's culling do not depend on the varyings (triangle_setup.cpp), so the depth,
+// stencil and counters are the same bytes (tests/raster/draw_paths_test.cpp).
+template <class VS>
+struct PositionOnlyVS {
+    using Varyings = NoVaryings;
+    const VS* vs;
+    template <class Vertex>
+    VertexOutput<NoVaryings> operator()(const Vertex& vertex) const {
+        return {(*vs)(vertex).posClip, NoVaryings{}};
+    }
+};
+
 template <class PS, Varyings V, DepthKernel kDepth, bool kSingleSample>
 void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const TriangleRef> list,
                    const std::vector<SetupChunk>& chunks, const PS& ps, TileCounters& tileCounters) {
@@ -926,6 +940,15 @@ template <class Vertex, class VS, PixelShaderOrNone PS>
     requires VertexShaderFor<VS, Vertex>
 DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
                        std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, OcclusionQuery* query) {
+    if constexpr (std::is_same_v<PS, NoPixelShader> && !std::is_same_v<typename VS::Varyings, NoVaryings>)
+        return drawImpl(state, targets, vertices, indices, detail::PositionOnlyVS<VS>{&vs}, ps, query);
+    else
+        return drawImpl(state, targets, vertices, indices, vs, ps, query);
+}
+
+template <class Vertex, class VS, PixelShaderOrNone PS>
+DrawStats Device::drawImpl(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
+                           std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, OcclusionQuery* query) {
     using V = typename VS::Varyings;
     if constexpr (!std::is_same_v<PS, NoPixelShader>) {
         static_assert(std::is_same_v<V, typename PS::Varyings>, "the pixel shader must read the vertex shader's varyings");
