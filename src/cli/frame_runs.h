@@ -56,7 +56,7 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
         beforeRun();
         // --probe: the rasterizer reports the pixel during the last (recorded) run only.
         if (device && watch && i + 1 == total) device->setPixelWatch(watch);
-        registry = tessera::BufferRegistry{};
+        registry.clear();  // every run starts from no buffers, under the caller's byte limit
         // The last run (the one written) also writes the buffers after the passes --dump-after names.
         // --probe records the pixel after every pass of the same run.
         tessera::Frame::AfterPass afterPass;

@@ -31,6 +31,12 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
     return ref;
 }
 
+void BufferRegistry::clear() {
+    mBuffers.clear();
+    mOrder.clear();
+    mBytes = 0;
+}
+
 void BufferRegistry::setByteLimit(std::uint64_t bytes, std::string hint) {
     mByteLimit = bytes;
     mLimitHint = std::move(hint);

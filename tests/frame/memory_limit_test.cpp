@@ -31,6 +31,24 @@ TEST_CASE("memory: BufferRegistry refuses a buffer past its limit before allocat
     CHECK(registry.bytes() == 1000);
 }
 
+// The command renders each --repeat run into a cleared registry; clearing must not lift the
+// limit (it once did: the runs replaced the registry with a default one, which has none).
+TEST_CASE("memory: a cleared BufferRegistry holds no buffer and keeps its limit") {
+    BufferRegistry registry;
+    registry.setByteLimit(1000, "--memory-limit");
+    registry.create("small", {10, 10, Format::R8G8B8A8_UNORM, 1});  // 400 B
+    registry.clear();
+    CHECK(registry.bytes() == 0);
+    CHECK(registry.names().empty());
+    CHECK_FALSE(registry.contains("small"));
+    registry.create("exact", {25, 10, Format::R8G8B8A8_UNORM, 1});  // 1000 B: exactly the limit, allowed again
+    CHECK(registry.bytes() == 1000);
+    CHECK_THROWS_WITH_AS(registry.create("one more", {1, 1, Format::R8G8B8A8_UNORM, 1}),  // 4 B past it
+                         "buffer 'one more' (1x1, R8G8B8A8_UNORM, 4 B) would take the frame's buffers to 1004 B, past the "
+                         "memory limit of 1000 B (--memory-limit)",
+                         MemoryLimitError);
+}
+
 TEST_CASE("memory: the default limit is three quarters of what the process may use") {
     const std::uint64_t available = availableMemoryBytes();
     CHECK(available > (std::uint64_t{1} << 28));  // any machine that runs the suite has 256 MiB

@@ -24,6 +24,8 @@ public:
     // The most bytes the registry's buffers may hold together (default: no limit); `hint` ends
     // the error message (how to raise it).
     void setByteLimit(std::uint64_t bytes, std::string hint = {});
+    // Drops every buffer (a fresh frame's registry); the byte limit and its hint stay.
+    void clear();
     // Bytes held by every buffer (texel storage).
     std::uint64_t bytes() const { return mBytes; }
     // nullptr when absent.
