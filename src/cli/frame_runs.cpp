@@ -108,6 +108,9 @@ void printDrawStats(const tessera::DrawStats& s) {
     }
     std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
                 (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
+    // Draws binned into shared tile lists (raster/draw_batch.h), and in how many sweeps of the tiles.
+    std::printf("binned   %llu draws in %llu runs of shared tile lists\n", (unsigned long long)s.binnedDraws,
+                (unsigned long long)s.binnedRuns);
 }
 
 void printShadowStats(const tessera::BufferRegistry& registry) {

@@ -63,6 +63,8 @@ options:
   --tile T          tile size in px, even, 8..1024 (default 64)
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
                     bytes; for comparing speed, and as the oracle the tests hold the SIMD path to)
+  --draw-by-draw    run every draw on its own (setup, tiles, barrier) instead of binning a pass's
+                    draws into shared tile lists (the same bytes; for comparing speed and scaling)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (default 1); techniques without MSAA refuse more
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png),
                     a viewable picture of each in DIR/view/ (depth stretched, stencil and integers through

@@ -92,6 +92,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             o.outGiven = true;
         } else if (a == "--no-output") o.noOutput = true;
         else if (a == "--scalar-raster") o.device.simdBlocks = false;
+        else if (a == "--draw-by-draw") o.device.binPasses = false;
         else if (a == "--no-default-lights") o.noDefaultLights = true;
         else if (a == "--double-sided-normals") {
             const std::string_view mode = value();

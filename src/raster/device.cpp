@@ -29,6 +29,8 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     samplesPassed += o.samplesPassed;
     simdBlocks += o.simdBlocks;
     leanBlocks += o.leanBlocks;
+    binnedDraws += o.binnedDraws;
+    binnedRuns += o.binnedRuns;
     for (const auto& [path, draws] : o.paths) paths[path] += draws;
     setup.touched = unite(setup.touched, o.setup.touched);
     return *this;
@@ -45,6 +47,23 @@ Device::Device(DeviceConfig config) : mConfig(config), mScratch(std::make_unique
 }
 
 Device::~Device() = default;
+
+detail::DrawEnv Device::drawEnv() {
+    return detail::DrawEnv{mConfig.tileSize, mConfig.simdBlocks, mWatch, mShadeCounts, mDrawCount++};
+}
+
+std::unique_ptr<detail::DrawScratch> Device::takeScratch() {
+    const std::lock_guard lock(mPoolMutex);
+    if (mScratchPool.empty()) return std::make_unique<detail::DrawScratch>();
+    std::unique_ptr<detail::DrawScratch> s = std::move(mScratchPool.back());
+    mScratchPool.pop_back();
+    return s;
+}
+
+void Device::returnScratch(std::unique_ptr<detail::DrawScratch> scratch) {
+    const std::lock_guard lock(mPoolMutex);
+    mScratchPool.push_back(std::move(scratch));
+}
 
 namespace {
 [[noreturn]] void invalid(const std::string& what) { throw std::invalid_argument("draw: " + what); }

@@ -11,6 +11,7 @@
 
 #include <tessera/errors/input_error.h>
 #include <tessera/math/projection_terms.h>
+#include <tessera/raster/draw_batch.h>
 #include <tessera/shading/phong_material_shader.h>
 #include <tessera/techniques/technique_options.h>
 
@@ -23,15 +24,16 @@ constexpr RenderTargetBlendDesc kDemoAlphaBlend{true,        Blend::SrcAlpha, Bl
                                                 Blend::One,  Blend::Zero,     BlendOp::Add,        WriteAll};
 
 template <class T, int kTargets>
-void drawItem(Device& device, const DrawState& state, const RenderTargets& targets, const PrimitiveBuffer& prim,
-              const PhongVS& vs, const PhongMaterial& material, const ForwardPassSetup& setup, DrawStats* stats,
+void drawItem(DrawBatch& batch, const DrawState& state, const RenderTargets& targets, const PrimitiveBuffer& prim,
+              const PhongVS& vs, const PhongMaterial& material, const ForwardPassSetup& setup,
               std::map<std::string, std::uint64_t>* variantCounts, const TileLightList* tileLights) {
     std::span<const ViewLight<T>> lights;
     if constexpr (std::is_same_v<T, float>) lights = setup.lightsExact;
     else lights = setup.lightsReference;
-    PhongShaderData<T> data = makePhongShaderData<T>(material, *setup.textures, lights);
-    data.tileLights = tileLights;
-    if constexpr (std::is_same_v<T, float>) data.fastLights = setup.fastLights.get();
+    PhongShaderData<T> shaderData = makePhongShaderData<T>(material, *setup.textures, lights);
+    shaderData.tileLights = tileLights;
+    if constexpr (std::is_same_v<T, float>) shaderData.fastLights = setup.fastLights.get();
+    const PhongShaderData<T>& data = batch.keep(std::move(shaderData));  // read when the batch runs
     const PhongVariant variant = selectPhongVariant<T>(phongFeatures(material, setup.alphaTest));
     PhongShadeFn<T> shade;
     const bool fast = setup.precision == Precision::Fast;
@@ -39,10 +41,8 @@ void drawItem(Device& device, const DrawState& state, const RenderTargets& targe
     else shade = variant.reference;
     if (variantCounts) ++(*variantCounts)[fast ? variant.fastName : variant.name];
     const std::span<const SceneVertex> vertices(prim.vertices);
-    DrawStats s = variant.mayDiscard
-                      ? device.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, true, kTargets>{shade, &data})
-                      : device.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, false, kTargets>{shade, &data});
-    if (stats) *stats += s;
+    if (variant.mayDiscard) batch.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, true, kTargets>{shade, &data});
+    else batch.draw(state, targets, vertices, prim.indices, vs, PhongPS<T, false, kTargets>{shade, &data});
 }
 
 } // namespace
@@ -104,6 +104,9 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
                      bool transparentPass, DrawStats* stats, std::map<std::string, std::uint64_t>* variantCounts,
                      const ForwardPassOverrides& overrides) {
     const bool reference = setup.precision == Precision::Reference;
+    // The pass's draws binned together (raster/draw_batch.h): they read the scene's textures and
+    // the light lists, never the targets they write.
+    DrawBatch batch(device);
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent() != transparentPass) continue;  // the demo's Opaque/TransparentPass
@@ -127,10 +130,12 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         noteAlphaTestOff(setup, material);
         if (reference)
-            drawItem<double, 2>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
+            drawItem<double, 2>(batch, st, rt, prim, vs, material, setup, variantCounts, overrides.tileLights);
         else
-            drawItem<float, 1>(device, st, rt, prim, vs, material, setup, stats, variantCounts, overrides.tileLights);
+            drawItem<float, 1>(batch, st, rt, prim, vs, material, setup, variantCounts, overrides.tileLights);
     }
+    const DrawStats s = batch.run();
+    if (stats) *stats += s;
 }
 
 Frame buildForward(const TechniqueContext& ctx) {

@@ -2,6 +2,8 @@
 // (GPU Pro 4 ch. 5 §5.3.2; the lighting itself in shading/amd_lighting.h): each pixel walks its
 // tile's point-light then spot-light loop, skips the lights its shadow mask bits mask (§5.6.2) and
 // adds the VPLs' diffuse light (§5.5).
+#include <tessera/raster/draw_batch.h>
+
 #include "forward_plus_amd_detail.h"
 
 namespace tessera::forward_plus_amd_detail {
@@ -142,6 +144,7 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
     }
     if (st.indirectActive) shade.firstIndirect = st.sceneLightCount;
     shade.indirectOnly = indirectOnly;
+    DrawBatch batch(device);  // the pass's draws binned together (raster/draw_batch.h)
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent() != transparentPass) continue;
@@ -162,23 +165,23 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
         const glm::mat4 viewFromObject = setup.viewFromWorld * item.worldFromObject;
         const PhongVS vs{setup.clipFromView * viewFromObject, item.worldFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
+        const PhongShaderData<float>& data = batch.keep(makePhongShaderData<float>(material, *setup.textures, {}));
         const std::span<const SceneVertex> vertices(prim.vertices);
         if (!indirectOnly) noteAlphaTestOff(setup, material);
-        DrawStats s;
-        if (indirectOnly)
-            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, false})
-                                : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, false});
-        else if (setup.precision == Precision::Reference)
-            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs,
-                                              AmdScenePS<true, double, 2>{&data, shade, true, transparentPass})
-                                : device.draw(ds, rt, vertices, prim.indices, vs,
-                                              AmdScenePS<false, double, 2>{&data, shade, false, transparentPass});
-        else
-            s = setup.alphaTest ? device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<true>{&data, shade, true, transparentPass})
-                                : device.draw(ds, rt, vertices, prim.indices, vs, AmdScenePS<false>{&data, shade, false, transparentPass});
-        if (stats) *stats += s;
+        const auto draw = [&](const auto& ps) { batch.draw(ds, rt, vertices, prim.indices, vs, ps); };
+        if (indirectOnly) {
+            if (setup.alphaTest) draw(AmdScenePS<true>{&data, shade, true, false});
+            else draw(AmdScenePS<false>{&data, shade, false, false});
+        } else if (setup.precision == Precision::Reference) {
+            if (setup.alphaTest) draw(AmdScenePS<true, double, 2>{&data, shade, true, transparentPass});
+            else draw(AmdScenePS<false, double, 2>{&data, shade, false, transparentPass});
+        } else {
+            if (setup.alphaTest) draw(AmdScenePS<true>{&data, shade, true, transparentPass});
+            else draw(AmdScenePS<false>{&data, shade, false, transparentPass});
+        }
     }
+    const DrawStats s = batch.run();
+    if (stats) *stats += s;
 }
 
 } // namespace tessera::forward_plus_amd_detail

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <tessera/raster/draw_batch.h>
 #include <tessera/techniques/forward.h>
 #include <tessera/techniques/forward_plus.h>
 
@@ -46,6 +47,7 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
     RenderTargets rt;
     rt.depthStencil = &depthSurface;
     rt.colors[0] = normalWorld;
+    DrawBatch batch(device);  // every opaque item binned together (raster/draw_batch.h)
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent()) continue;
@@ -59,20 +61,20 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
         const std::span<const SceneVertex> vertices(prim.vertices);
         const PhongVariant variant = selectPhongVariant<float>(phongFeatures(material, setup.alphaTest));
-        DrawStats s;
         if (normalWorld) {
-            const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
+            const PhongShaderData<float>& data = batch.keep(makePhongShaderData<float>(material, *setup.textures, {}));
             const bool reverse = material.reverseBackFaceNormals;
-            s = variant.mayDiscard ? device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, true>{variant.exact, &data, reverse})
-                                   : device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<false, true>{nullptr, nullptr, reverse});
+            if (variant.mayDiscard) batch.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, true>{variant.exact, &data, reverse});
+            else batch.draw(st, rt, vertices, prim.indices, vs, PrepassPS<false, true>{nullptr, nullptr, reverse});
         } else if (variant.mayDiscard) {
-            const PhongShaderData<float> data = makePhongShaderData<float>(material, *setup.textures, {});
-            s = device.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, false>{variant.exact, &data});
+            const PhongShaderData<float>& data = batch.keep(makePhongShaderData<float>(material, *setup.textures, {}));
+            batch.draw(st, rt, vertices, prim.indices, vs, PrepassPS<true, false>{variant.exact, &data});
         } else {
-            s = device.draw(st, rt, vertices, prim.indices, vs, NoPixelShader{});
+            batch.draw(st, rt, vertices, prim.indices, vs, NoPixelShader{});
         }
-        if (stats) *stats += s;
     }
+    const DrawStats s = batch.run();
+    if (stats) *stats += s;
 }
 
 } // namespace

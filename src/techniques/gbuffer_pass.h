@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include <tessera/raster/draw_batch.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/deferred_states.h>
 #include <tessera/techniques/forward.h>
@@ -25,6 +26,7 @@ template <template <bool> class PS, class Configure>
 void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneResources& res, const RenderTargets& rt,
                        const PassState& pass, std::string_view variantPrefix, Configure&& configure, DrawStats* stats,
                        std::map<std::string, std::uint64_t>* variantCounts, bool stencilRefFromLightGroups = false) {
+    DrawBatch batch(device);  // every opaque item binned together (raster/draw_batch.h)
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent()) continue;
@@ -36,19 +38,21 @@ void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneRes
         const glm::mat4 viewFromObject = f.viewFromWorld * item.worldFromObject;
         const PhongVS vs{f.clipFromView * viewFromObject, viewFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        const PhongShaderData<float> data = makePhongShaderData<float>(material, *f.textures, std::span<const ViewLight<float>>());
+        const PhongShaderData<float>& data =
+            batch.keep(makePhongShaderData<float>(material, *f.textures, std::span<const ViewLight<float>>()));
         const PhongGatherVariant variant = selectPhongGather(phongFeatures(material, true), variantPrefix);
         if (variantCounts) ++(*variantCounts)[variant.name];
         const auto run = [&](auto ps) {
             ps.gather = variant.fn;
             ps.data = &data;
             configure(ps);
-            DrawStats s = device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
-            if (stats) *stats += s;
+            batch.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
         };
         if (variant.mayDiscard) run(PS<true>{});
         else run(PS<false>{});
     }
+    const DrawStats s = batch.run();
+    if (stats) *stats += s;
 }
 
 // A full-screen quad in clip space at z = 0, w = 1, as the triangle strip (-1, 1), (1, 1),

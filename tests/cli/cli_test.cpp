@@ -398,6 +398,22 @@ TEST_CASE("cli: render --repeat N prints medians over N runs and the peak memory
     CHECK(r.output.find("--repeat: '0'") != std::string::npos);
 }
 
+TEST_CASE("cli: --draw-by-draw writes the same bytes as binned passes, and --stats counts the binned draws") {
+    // forward-plus bins its depth pre-pass, opaque and transparent passes (raster/draw_batch.h).
+    const auto binned = scratch("binned.png"), byDraw = scratch("by-draw.png");
+    Run r = run("render default --technique forward-plus --width 160 --height 90 --threads 2 --stats --quiet --out " + binned.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("binned   0 draws") == std::string::npos);
+    CHECK(r.output.find("binned   ") != std::string::npos);
+    r = run("render default --technique forward-plus --width 160 --height 90 --threads 2 --stats --quiet --draw-by-draw --out " +
+            byDraw.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("binned   0 draws in 0 runs") != std::string::npos);
+    CHECK(run("diff --json " + binned.string() + " " + byDraw.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+}
+
 TEST_CASE("cli: --scalar-raster writes the same bytes as the SIMD blocks, --stats counts the blocks, --no-output writes nothing") {
     const auto simd = scratch("simd.png"), scalar = scratch("scalar.png"), none = scratch("none.png");
     Run r = run("render default --width 160 --height 90 --stats --quiet --out " + simd.string());

@@ -59,7 +59,12 @@ public:
     BufferRegistry render(const std::string& technique, std::uint32_t threads,
                           const nlohmann::json* options = nullptr, DrawStats* stats = nullptr,
                           Precision precision = Precision::Exact, std::uint32_t samples = 1) const {
-        Device device(DeviceConfig{64, threads});
+        return renderOn(DeviceConfig{64, threads}, technique, options, stats, precision, samples);
+    }
+    // The same on a device configured as `config` (tile size, threads, binned passes).
+    BufferRegistry renderOn(const DeviceConfig& config, const std::string& technique, const nlohmann::json* options = nullptr,
+                            DrawStats* stats = nullptr, Precision precision = Precision::Exact, std::uint32_t samples = 1) const {
+        Device device(config);
         DrawStats localStats;
         TechniqueContext ctx = context(
             device, options ? *options : technique == desc_.technique ? desc_.techniqueOptions : nlohmann::json::object(),

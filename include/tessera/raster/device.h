@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <vector>
 #include <string>
 #include <span>
 
@@ -29,6 +31,10 @@ struct DeviceConfig {
     // where enough of a block is inside the triangle's bounds; false keeps every quad on the
     // scalar path. Both give the same bits (the scalar path is the tests' oracle).
     bool simdBlocks = true;
+    // A DrawBatch (raster/draw_batch.h) bins all its draws and rasterizes each tile once through
+    // their lists; false runs each of its draws at once, as Device::draw does. Both give the same
+    // bits (tests/raster/draw_batch_test.cpp); false is the oracle and the speed baseline.
+    bool binPasses = true;
 };
 
 // Counters of one draw (and, summed, of a frame) for --stats.
@@ -47,6 +53,9 @@ struct DrawStats {
     // 8x8 blocks rasterized through the SIMD kernels (raster/quad_block.h), and those of them
     // that also ran the lean pipeline (SIMD depth test, no per-pixel stage the state lacks).
     std::uint64_t simdBlocks = 0, leanBlocks = 0;
+    // Draws rasterized through a DrawBatch's shared tile lists (raster/draw_batch.h), and the
+    // batch runs that rasterized them: draws / runs is how many draws shared one sweep of the tiles.
+    std::uint64_t binnedDraws = 0, binnedRuns = 0;
     // Draws per pipeline path the rasterizer specialised for (what the draw's state and shader
     // require, nothing more): "ps depth:D24 1x raster:exact", "no-ps depth:General 4x ...",
     // with "blend" when a target blends. The paths a frame took, for --stats.
@@ -72,7 +81,9 @@ std::string drawPathName(bool hasPixelShader, DepthPath depth, std::uint32_t sam
 
 namespace detail {
 struct DrawScratch;
+struct DrawEnv;
 }
+class DrawBatch;
 
 class Device {
 public:
@@ -107,6 +118,13 @@ public:
     void setShadeCounts(ShadeCounts* counts) { mShadeCounts = counts; }
 
 private:
+    friend class DrawBatch;
+    // What a draw recorded now takes from the device (tile size, watch, its draw number).
+    detail::DrawEnv drawEnv();
+    // A draw's working storage for a DrawBatch, from a pool kept from batch to batch, and its return.
+    std::unique_ptr<detail::DrawScratch> takeScratch();
+    void returnScratch(std::unique_ptr<detail::DrawScratch> scratch);
+
     // draw() after choosing the vertex stage: a draw without a pixel shader runs its vertex shader
     // for the position alone (detail::PositionOnlyVS).
     template <class Vertex, class VS, PixelShaderOrNone PS>
@@ -118,6 +136,8 @@ private:
     ShadeCounts* mShadeCounts = nullptr;
     std::uint64_t mDrawCount = 0;  // draws issued, for PixelDrawEvent::draw
     std::unique_ptr<detail::DrawScratch> mScratch;  // a draw's working storage, reused (detail/draw_impl.h)
+    std::mutex mPoolMutex;
+    std::vector<std::unique_ptr<detail::DrawScratch>> mScratchPool;  // DrawBatch's, reused
     std::unique_ptr<tbb::task_arena> mArena;
     // More threads than cores (e.g. the 7-thread determinism runs on 2 cores) need TBB's
     // process-wide worker limit raised while this device lives.

@@ -264,6 +264,17 @@ struct TileCounters {
     std::uint64_t quads = 0, psInvocations = 0, samplesPassed = 0, simdBlocks = 0, leanBlocks = 0;
 };
 
+// Adds a tile's counters to a draw's (or a batch's) stats; perSample: the invocations were of a
+// shader that runs per sample (DrawStats::psPerSample).
+inline void addTileCounters(DrawStats& stats, const TileCounters& c, bool perSample) {
+    stats.quads += c.quads;
+    stats.psInvocations += c.psInvocations;
+    if (perSample) stats.psPerSample += c.psInvocations;
+    stats.samplesPassed += c.samplesPassed;
+    stats.simdBlocks += c.simdBlocks;
+    stats.leanBlocks += c.leanBlocks;
+}
+
 // A draw's working storage (set-up chunks, per-tile counters, vertex outputs), kept by the
 // Device from draw to draw: a Sponza pass issues ~380 draws, and allocating each draw's chunks
 // afresh costs a page fault per touched page where the allocator maps large blocks anew
@@ -917,14 +928,15 @@ private:
 // A draw without a pixel shader reads no varying: its vertex shader is run for the position
 // alone (the varyings it computes are dead code once inlined) and setup stores none. Positions,
 // clipping and setup's culling do not depend on the varyings (triangle_setup.cpp), so the depth,
-// stencil and counters are the same bytes (tests/raster/draw_paths_test.cpp).
+// stencil and counters are the same bytes (tests/raster/draw_paths_test.cpp). Holds the vertex
+// shader by value: a DrawBatch runs it after the caller's copy is gone.
 template <class VS>
 struct PositionOnlyVS {
     using Varyings = NoVaryings;
-    const VS* vs;
+    VS vs;
     template <class Vertex>
     VertexOutput<NoVaryings> operator()(const Vertex& vertex) const {
-        return {(*vs)(vertex).posClip, NoVaryings{}};
+        return {vs(vertex).posClip, NoVaryings{}};
     }
 };
 
@@ -934,132 +946,208 @@ void rasterizeTile(const DrawContext& dc, const PixelRect& tile, std::span<const
     TileRasterizer<PS, V, kDepth, kSingleSample>(dc, tile, chunks, ps).run(list, tileCounters);
 }
 
+// What a draw takes from the Device that records it.
+struct DrawEnv {
+    std::uint32_t tileSize = 64;
+    bool simdBlocks = true;
+    PixelWatch* watch = nullptr;
+    ShadeCounts* shadeCounts = nullptr;
+    std::uint64_t drawNumber = 0;
+};
+
+// The pixel rectangle of tile `tileIndex` in a grid of `bins`' tiles over a width x height target.
+inline PixelRect tileRect(const TileBins& bins, std::size_t tileIndex, std::uint32_t width, std::uint32_t height) {
+    const std::int32_t tx = std::int32_t(tileIndex % bins.tilesX), ty = std::int32_t(tileIndex / bins.tilesX);
+    const std::int32_t ts = std::int32_t(bins.tileSize);
+    return PixelRect{tx * ts, ty * ts, std::min((tx + 1) * ts, std::int32_t(width)), std::min((ty + 1) * ts, std::int32_t(height))};
+}
+
+// One validated draw and its steps: shadeVertices(), then per batch of triangles setup() (setup
+// and binning) and rasterizeTile() for each tile. Holds copies of the state, the shaders and the
+// draw context (which points at the copied state), so a DrawBatch can run it after the caller's
+// locals are gone; the vertex and index spans must stay valid until it has run. Not movable:
+// the context points into it.
+template <class Vertex, class VS, class PS>
+class DrawJob {
+public:
+    using V = typename VS::Varyings;
+
+    DrawJob(const DrawState& state, const RenderTargets& targets, const DrawTargets& dt, std::span<const Vertex> vertices,
+            std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, const DrawEnv& env, DrawScratch& scratch)
+        : mState(state), mDt(dt), mVertices(vertices), mIndices(indices), mVs(vs), mPs(ps), mTileSize(env.tileSize),
+          mScratch(scratch) {
+        mDc = DrawContext{&mState, dt, targets.colors, {}, {}, {},
+                          glm::vec4(state.blendFactor[0], state.blendFactor[1], state.blendFactor[2], state.blendFactor[3]),
+                          targets.depthStencil, {}, standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
+                          env.simdBlocks};
+        mDc.watch = env.watch;
+        mDc.shadeCounts = env.shadeCounts;
+        mDc.drawNumber = env.drawNumber;
+        bool blends = false;
+        for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
+            mDc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
+            mDc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), mDc.blend[rt]);
+            mDc.rgba8Blend[rt] = targets.colors[rt] && !mDc.rgba8Overwrite[rt] &&
+                                 targets.colors[rt]->format() == Format::R8G8B8A8_UNORM &&
+                                 (mDc.blend[rt].renderTargetWriteMask & WriteAll) != 0;
+            blends = blends || (targets.colors[rt] && mDc.blend[rt].blendEnable);
+        }
+        if (targets.depthStencil) mDc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
+        ++mStats.paths[drawPathName(!std::is_same_v<PS, NoPixelShader>, mDc.ds.path(), dt.sampleCount, blends, state.precision)];
+        mRaster = chooseKernel();
+    }
+    DrawJob(const DrawJob&) = delete;
+    DrawJob& operator=(const DrawJob&) = delete;
+
+    std::uint32_t triangleCount() const { return std::uint32_t((mIndices.empty() ? mVertices.size() : mIndices.size()) / 3); }
+    const DrawTargets& targets() const { return mDt; }
+    const TileBins& bins() const { return mBins; }
+    // Setup, binning and path counters so far (DrawStats::paths set at construction).
+    DrawStats& stats() { return mStats; }
+
+    // Vertex stage: every vertex once (a pure function, so where it runs does not change its
+    // result). Non-indexed draws shade each vertex inside setup, where it is used once; indexed
+    // draws shade all vertices first, in parallel, and share the results.
+    void shadeVertices() {
+        mVsOut = mScratch.vertexOutputs<VertexOutput<V>>(mIndices.empty() ? 0 : mVertices.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mVsOut.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) std::construct_at(&mVsOut[i], mVs(mVertices[i]));
+        });
+        mOutOfRange = mVs(Vertex{});
+    }
+
+    // Setup of triangles [first, end) into the scratch's chunks, then binning into tiles.
+    void setup(std::uint32_t first, std::uint32_t end) {
+        const SetupContext ctx{&mState, mDt.rect, std::uint32_t(kVaryingFloatCount<V>)};
+        auto fetch = [&](std::uint32_t t, VertexOutput<V>* out) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                if (mIndices.empty()) {
+                    out[k] = mVs(mVertices[std::size_t(t) * 3 + k]);
+                } else {
+                    const std::size_t i = mIndices[std::size_t(t) * 3 + k];
+                    out[k] = i < mVsOut.size() ? mVsOut[i] : mOutOfRange;
+                }
+            }
+        };
+        setupAll<V>(first, end, ctx, fetch, mScratch.chunks, mStats.setup);  // setupAll clears each chunk it uses
+        mBins = binTriangles(mScratch.chunks, mDt.width, mDt.height, mTileSize);
+        mStats.binnedTileTriangles += mBins.refs.size();
+    }
+
+    // Rasterizes this batch's triangles binned into tile `tileIndex`, adding to `counters`.
+    void rasterizeTile(std::size_t tileIndex, TileCounters& counters) const {
+        const std::span<const TriangleRef> list(mBins.refs.data() + mBins.offsets[tileIndex],
+                                                mBins.offsets[tileIndex + 1] - mBins.offsets[tileIndex]);
+        if (list.empty()) return;
+        mRaster(mDc, tileRect(mBins, tileIndex, mDt.width, mDt.height), list, mScratch.chunks, mPs, counters);
+    }
+
+private:
+    using RasterFn = void (*)(const DrawContext&, const PixelRect&, std::span<const TriangleRef>, const std::vector<SetupChunk>&,
+                              const PS&, TileCounters&);
+    static constexpr bool kSingleRate = compiledFor<PS>(SampleRates::Single);
+    static constexpr bool kMultiRate = compiledFor<PS>(SampleRates::Multi);
+
+    // Up to four instantiations per pixel shader (DepthKernel, and the sample rates it is compiled
+    // for), chosen once per draw. A single-sample draw with a shader compiled for multisampled
+    // targets only runs on the multisample kernel (the same results: it loops over one sample).
+    RasterFn chooseKernel() const {
+        if constexpr (kSingleRate) {
+            if (mDt.sampleCount == 1) {
+                switch (depthKernel(mDc.ds.path(), true)) {
+                case DepthKernel::Off: return &detail::rasterizeTile<PS, V, DepthKernel::Off, true>;
+                case DepthKernel::Buffer: return &detail::rasterizeTile<PS, V, DepthKernel::Buffer, true>;
+                case DepthKernel::General: return &detail::rasterizeTile<PS, V, DepthKernel::General, true>;
+                }
+            }
+        }
+        if constexpr (kMultiRate) return &detail::rasterizeTile<PS, V, DepthKernel::General, false>;
+        throw std::logic_error("draw: no rasterizer compiled for this pixel shader and sample count");
+    }
+
+    DrawState mState;
+    DrawTargets mDt;
+    std::span<const Vertex> mVertices;
+    std::span<const std::uint32_t> mIndices;
+    VS mVs;
+    PS mPs;
+    std::uint32_t mTileSize;
+    DrawScratch& mScratch;
+    DrawContext mDc{};
+    RasterFn mRaster = nullptr;
+    std::span<VertexOutput<V>> mVsOut;
+    VertexOutput<V> mOutOfRange{};
+    TileBins mBins;
+    DrawStats mStats;
+};
+
+// Checks a draw's arguments before anything runs: the state and targets (validateDraw), the
+// sample rates the shader is compiled for, and the vertex and index counts.
+template <class PS>
+DrawTargets checkDraw(const DrawState& state, const RenderTargets& targets, std::uint32_t tileSize, std::size_t vertexCount,
+                      std::size_t indexCount) {
+    const DrawTargets dt = validateDraw(state, targets, tileSize);
+    if (!compiledFor<PS>(SampleRates::Multi) && dt.sampleCount > 1)
+        throw std::logic_error("draw: the pixel shader is compiled for single-sample targets only (kSampleRates); the targets have " +
+                               std::to_string(dt.sampleCount) + " samples");
+    if (indexCount == 0 && vertexCount % 3 != 0)
+        throw std::invalid_argument("draw: vertex count " + std::to_string(vertexCount) + " is not a multiple of 3");
+    if (indexCount % 3 != 0)
+        throw std::invalid_argument("draw: index count " + std::to_string(indexCount) + " is not a multiple of 3");
+    return dt;
+}
+
+// The vertex shader a draw runs: the position alone when there is no pixel shader.
+template <class VS, class PS>
+auto drawVertexShader(const VS& vs) {
+    if constexpr (std::is_same_v<PS, NoPixelShader> && !std::is_same_v<typename VS::Varyings, NoVaryings>)
+        return PositionOnlyVS<VS>{vs};
+    else
+        return vs;
+}
+
+template <class VS, class PS>
+void checkVaryings() {
+    if constexpr (!std::is_same_v<PS, NoPixelShader>) {
+        static_assert(std::is_same_v<typename VS::Varyings, typename PS::Varyings>,
+                      "the pixel shader must read the vertex shader's varyings");
+    }
+}
+
 } // namespace detail
 
 template <class Vertex, class VS, PixelShaderOrNone PS>
     requires VertexShaderFor<VS, Vertex>
 DrawStats Device::draw(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
                        std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, OcclusionQuery* query) {
-    if constexpr (std::is_same_v<PS, NoPixelShader> && !std::is_same_v<typename VS::Varyings, NoVaryings>)
-        return drawImpl(state, targets, vertices, indices, detail::PositionOnlyVS<VS>{&vs}, ps, query);
-    else
-        return drawImpl(state, targets, vertices, indices, vs, ps, query);
+    detail::checkVaryings<VS, PS>();
+    return drawImpl(state, targets, vertices, indices, detail::drawVertexShader<VS, PS>(vs), ps, query);
 }
 
 template <class Vertex, class VS, PixelShaderOrNone PS>
 DrawStats Device::drawImpl(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
                            std::span<const std::uint32_t> indices, const VS& vs, const PS& ps, OcclusionQuery* query) {
-    using V = typename VS::Varyings;
-    if constexpr (!std::is_same_v<PS, NoPixelShader>) {
-        static_assert(std::is_same_v<V, typename PS::Varyings>, "the pixel shader must read the vertex shader's varyings");
-    }
-    const DrawTargets dt = validateDraw(state, targets, mConfig.tileSize);
-    constexpr bool kSingleRate = detail::compiledFor<PS>(SampleRates::Single);
-    constexpr bool kMultiRate = detail::compiledFor<PS>(SampleRates::Multi);
-    if (!kMultiRate && dt.sampleCount > 1)
-        throw std::logic_error("draw: the pixel shader is compiled for single-sample targets only (kSampleRates); the targets have " +
-                               std::to_string(dt.sampleCount) + " samples");
+    const DrawTargets dt = detail::checkDraw<PS>(state, targets, mConfig.tileSize, vertices.size(), indices.size());
     DrawStats stats;
-    if (indices.empty() && vertices.size() % 3 != 0)
-        throw std::invalid_argument("draw: vertex count " + std::to_string(vertices.size()) + " is not a multiple of 3");
-    if (!indices.empty() && indices.size() % 3 != 0)
-        throw std::invalid_argument("draw: index count " + std::to_string(indices.size()) + " is not a multiple of 3");
-
     execute([&] {
         const detail::ScratchLease lease(*mScratch);
         detail::DrawScratch& scratch = *lease;
-        // Vertex stage: every vertex once (a pure function, so where it runs does not change
-        // its result). Non-indexed draws shade each vertex inside setup, where it is used
-        // once; indexed draws shade all vertices first, in parallel, and share the results.
-        const std::span<VertexOutput<V>> vsOut = scratch.vertexOutputs<VertexOutput<V>>(indices.empty() ? 0 : vertices.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vsOut.size(), 1024),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) std::construct_at(&vsOut[i], vs(vertices[i]));
-                          });
-        const VertexOutput<V> outOfRange = vs(Vertex{});
-
-        SetupContext ctx{&state, dt.rect, std::uint32_t(kVaryingFloatCount<V>)};
-        const std::uint32_t triangleCount = std::uint32_t((indices.empty() ? vertices.size() : indices.size()) / 3);
-        auto fetch = [&](std::uint32_t t, VertexOutput<V>* out) {
-            for (std::size_t k = 0; k < 3; ++k) {
-                if (indices.empty()) {
-                    out[k] = vs(vertices[std::size_t(t) * 3 + k]);
-                } else {
-                    const std::size_t i = indices[std::size_t(t) * 3 + k];
-                    out[k] = i < vsOut.size() ? vsOut[i] : outOfRange;
-                }
-            }
-        };
-
-        detail::DrawContext dc{&state, dt, targets.colors, {}, {}, {}, glm::vec4(state.blendFactor[0], state.blendFactor[1],
-                               state.blendFactor[2], state.blendFactor[3]), targets.depthStencil, {},
-                               standardSamplePattern(dt.sampleCount), state.precision == Precision::Fast,
-                               mConfig.simdBlocks};
-        dc.watch = mWatch;
-        dc.shadeCounts = mShadeCounts;
-        dc.drawNumber = mDrawCount++;
-        bool blends = false;
-        for (std::size_t rt = 0; rt < std::size_t(kMaxRenderTargets); ++rt) {
-            dc.blend[rt] = state.blend.renderTarget[state.blend.independentBlendEnable ? rt : 0];
-            dc.rgba8Overwrite[rt] = targets.colors[rt] && isRgba8UnormOverwrite(targets.colors[rt]->format(), dc.blend[rt]);
-            dc.rgba8Blend[rt] = targets.colors[rt] && !dc.rgba8Overwrite[rt] &&
-                                targets.colors[rt]->format() == Format::R8G8B8A8_UNORM &&
-                                (dc.blend[rt].renderTargetWriteMask & WriteAll) != 0;
-            blends = blends || (targets.colors[rt] && dc.blend[rt].blendEnable);
-        }
-        if (targets.depthStencil) dc.ds = DepthStencilUnit{targets.depthStencil->format(), state.depthStencil, state.stencilRef};
-        ++stats.paths[drawPathName(!std::is_same_v<PS, NoPixelShader>, dc.ds.path(), dt.sampleCount, blends, state.precision)];
-
-        std::vector<detail::SetupChunk>& chunks = scratch.chunks;  // setupAll clears each chunk it uses
+        detail::DrawJob<Vertex, VS, PS> job(state, targets, dt, vertices, indices, vs, ps, drawEnv(), scratch);
+        job.shadeVertices();
         std::vector<detail::TileCounters>& counters = scratch.counters;
         counters.clear();
+        const std::uint32_t triangleCount = job.triangleCount();
         for (std::uint32_t first = 0; first < triangleCount; first += std::min(detail::kBatchTriangles, triangleCount - first)) {
-            const std::uint32_t end = first + std::min(detail::kBatchTriangles, triangleCount - first);
-            detail::setupAll<V>(first, end, ctx, fetch, chunks, stats.setup);
-            const detail::TileBins bins = detail::binTriangles(chunks, dt.width, dt.height, mConfig.tileSize);
-            const std::size_t nTiles = bins.tileCount();
+            job.setup(first, first + std::min(detail::kBatchTriangles, triangleCount - first));
+            const std::size_t nTiles = job.bins().tileCount();
             counters.resize(nTiles);
-            auto rasterizeTiles = [&]<detail::DepthKernel kDepth, bool kSingleSample>() {
-                tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTiles, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-                    for (std::size_t tileIndex = r.begin(); tileIndex != r.end(); ++tileIndex) {
-                        const std::span<const detail::TriangleRef> list(bins.refs.data() + bins.offsets[tileIndex],
-                                                                        bins.offsets[tileIndex + 1] - bins.offsets[tileIndex]);
-                        if (list.empty()) continue;
-                        const std::int32_t tx = std::int32_t(tileIndex % bins.tilesX), ty = std::int32_t(tileIndex / bins.tilesX);
-                        const std::int32_t ts = std::int32_t(bins.tileSize);
-                        const PixelRect tile{tx * ts, ty * ts, std::min((tx + 1) * ts, std::int32_t(dt.width)),
-                                             std::min((ty + 1) * ts, std::int32_t(dt.height))};
-                        detail::rasterizeTile<PS, V, kDepth, kSingleSample>(dc, tile, list, chunks, ps, counters[tileIndex]);
-                    }
-                });
-            };
-            // Up to four instantiations per pixel shader (detail::DepthKernel, and the sample rates
-            // it is compiled for), chosen here, once per draw. A single-sample draw with a shader
-            // compiled for multisampled targets only runs on the multisample kernel (the same
-            // results: it loops over one sample).
-            if constexpr (kSingleRate) {
-                if (dt.sampleCount == 1) {
-                    switch (detail::depthKernel(dc.ds.path(), true)) {
-                    case detail::DepthKernel::Off: rasterizeTiles.template operator()<detail::DepthKernel::Off, true>(); break;
-                    case detail::DepthKernel::Buffer: rasterizeTiles.template operator()<detail::DepthKernel::Buffer, true>(); break;
-                    case detail::DepthKernel::General: rasterizeTiles.template operator()<detail::DepthKernel::General, true>(); break;
-                    }
-                    stats.binnedTileTriangles += bins.refs.size();
-                    continue;
-                }
-            }
-            if constexpr (kMultiRate) rasterizeTiles.template operator()<detail::DepthKernel::General, false>();
-            stats.binnedTileTriangles += bins.refs.size();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nTiles, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t tileIndex = r.begin(); tileIndex != r.end(); ++tileIndex) job.rasterizeTile(tileIndex, counters[tileIndex]);
+            });
         }
-        for (const detail::TileCounters& c : counters) {
-            stats.quads += c.quads;
-            stats.psInvocations += c.psInvocations;
-            stats.samplesPassed += c.samplesPassed;
-            stats.simdBlocks += c.simdBlocks;
-            stats.leanBlocks += c.leanBlocks;
-        }
+        stats = job.stats();
+        for (const detail::TileCounters& c : counters) detail::addTileCounters(stats, c, detail::perSample<PS>());
     });
-    if constexpr (detail::perSample<PS>()) stats.psPerSample = stats.psInvocations;
     if (query && query->active()) query->add(stats.samplesPassed);
     return stats;
 }
