@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -247,9 +248,10 @@ DeferredOptions parseOptions(const TechniqueContext& ctx, Method method, const s
 bool drawnAsQuad(const Light& light) { return light.type == LightType::Directional || !std::isfinite(light.range); }
 
 // One draw of a volume (or the quad) with pass state `pass`; `ps` null = depth/stencil only.
+// Recorded in `batch` when given (no query then): its stats come from the batch's run().
 template <class PS>
 DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const PassState& pass, const RenderTargets& targets,
-                            const Light& light, const PS* ps, OcclusionQuery* query, DrawStats* stats) {
+                            const Light& light, const PS* ps, OcclusionQuery* query, DrawStats* stats, DrawBatch* batch = nullptr) {
     const ForwardPassSetup& fwd = *setup.forward;
     const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
     DrawState st = makeDrawState(pass, viewport);
@@ -271,6 +273,11 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
         vertices = sphere ? std::span<const VolumeVertex>(setup.sphereVertices) : std::span<const VolumeVertex>(setup.coneVertices);
         indices = setup.volumes.meshFor(light.type).indices;
     }
+    if (batch) {
+        if (ps) batch->draw(st, targets, vertices, indices, vs, *ps);
+        else batch->draw(st, targets, vertices, indices, vs, NoPixelShader{});
+        return {};
+    }
     DrawStats s = ps ? device.draw(st, targets, vertices, indices, vs, *ps, query)
                      : device.draw(st, targets, vertices, indices, vs, NoPixelShader{}, query);
     if (stats) *stats += s;
@@ -280,13 +287,17 @@ DrawStats drawLightGeometry(const DeferredSetup& setup, Device& device, const Pa
 // DeferredLightingPass::Render clears the whole stencil before every light. Only pixels that the
 // draws since the last clear touched (SetupStats::touched) can hold anything but the clear value,
 // so clearing their bounding rectangle leaves the same bytes at a fraction of the cost (a whole
-// D24S8 buffer per light at 1280x720 is 3.7 MB of writes).
+// D24S8 buffer per light at 1280x720 is 3.7 MB of writes). With a DrawBatch the clear is recorded
+// between the light's draws and runs tile by tile, only on tiles drawn since the last clear.
 // With MSAA the clears keep the edge bit (gbuffer_detail::kEdgeStencilBit): `writeMask` 0x7F.
 class StencilClears {
 public:
-    StencilClears(Surface& depth, std::uint8_t writeMask) : mDepth(depth), mWriteMask(writeMask) {}
+    StencilClears(Surface& depth, std::uint8_t writeMask, DrawBatch* batch) : mDepth(depth), mWriteMask(writeMask), mBatch(batch) {}
     void clear(std::uint8_t value) {
-        if (!mKnown || value != mValue) {
+        const bool onlyDrawn = mKnown && value == mValue;
+        if (mBatch) {
+            mBatch->clearDepthStencil(mDepth, false, 0.0f, true, value, mWriteMask, onlyDrawn);
+        } else if (!onlyDrawn) {
             mDepth.clearDepthStencil(false, 0.0f, true, value, mWriteMask);
         } else if (!mDirty.empty()) {
             mDepth.clearDepthStencilRect(std::uint32_t(mDirty.minX), std::uint32_t(mDirty.minY), std::uint32_t(mDirty.maxX),
@@ -301,6 +312,7 @@ public:
 private:
     Surface& mDepth;
     std::uint8_t mWriteMask = 0xFF;
+    DrawBatch* mBatch = nullptr;
     bool mKnown = false;  // the first clear is whole: the G-buffer pass's stencil is not tracked
     std::uint8_t mValue = 0;
     PixelRect mDirty;
@@ -345,7 +357,18 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     // MSAA: the edge bit stays set under the light steps (their stencil reads and writes use the
     // low bits), and every shading draw runs twice: per pixel where it is clear, per sample where set.
     const bool msaa = fwd.sampleCount > 1;
-    StencilClears stencil(depth, msaa ? std::uint8_t(~gbuffer_detail::kEdgeStencilBit) : std::uint8_t(0xFF));
+    // 3dgep's steps binned together (raster/draw_batch.h): a light's unmark, shade and the next
+    // light's stencil clear are ordered commands of each tile's list. Killzone 2's count is an
+    // occlusion query read before its shade: its draws run one at a time.
+    std::optional<DrawBatch> batch;
+    if (setup.method == Method::Dgep) batch.emplace(device);
+    DrawBatch* const binned = batch ? &*batch : nullptr;
+    const auto runBatch = [&] {
+        if (!binned) return;
+        const DrawStats s = binned->run();
+        if (stats) *stats += s;
+    };
+    StencilClears stencil(depth, msaa ? std::uint8_t(~gbuffer_detail::kEdgeStencilBit) : std::uint8_t(0xFF), binned);
     const auto lowBits = [msaa](PassState p) {
         if (msaa) {
             p.depthStencil.stencilReadMask &= std::uint8_t(~gbuffer_detail::kEdgeStencilBit);
@@ -355,11 +378,13 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     };
     const auto shade = [&](const PassState& pass, const Light& light, const PS& ps) {
         gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, [&](const PassState& state, const auto& shader) {
-            stencil.drew(drawLightGeometry(setup, device, state, shadeTargets, light, &shader, nullptr, stats));
+            stencil.drew(drawLightGeometry(setup, device, state, shadeTargets, light, &shader, nullptr, stats, binned));
         });
     };
     const auto stepDone = [&](std::size_t light, std::string_view step) {
-        if (setup.afterLightStep) setup.afterLightStep(light, step, reg);
+        if (!setup.afterLightStep) return;
+        runBatch();  // the step's buffers as they stand after it
+        setup.afterLightStep(light, step, reg);
     };
     for (std::size_t i = 0; i < setup.lightsWorld.size(); ++i) {
         const Light& light = setup.lightsWorld[i];
@@ -380,7 +405,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
         }
         if (setup.method == Method::Dgep) {
             stencil.clear(kDeferredStencilClear);
-            stencil.drew(drawLightGeometry<PS>(setup, device, lowBits(kDeferredUnmarkPass), depthOnly, light, nullptr, nullptr, stats));
+            stencil.drew(drawLightGeometry<PS>(setup, device, lowBits(kDeferredUnmarkPass), depthOnly, light, nullptr, nullptr, stats, binned));
             stepDone(i, "unmark");
             shade(kDeferredShadePass, light, ps);
             count("light:", light);
@@ -414,6 +439,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
             }
         }
     }
+    runBatch();
 }
 
 // The "lights" pass: each light's volume steps (unmark, shade; Killzone: mark, count, shade) over the

@@ -44,6 +44,15 @@ public:
     void draw(const DrawState& state, const RenderTargets& targets, std::span<const Vertex> vertices,
               std::span<const std::uint32_t> indices, const VS& vs, const PS& ps);
 
+    // Surface::clearDepthStencilRect's clear, ordered with the recorded draws: each tile clears
+    // when the sweep reaches it, between the draws recorded before and after (the deferred light
+    // loop's per-light stencil clear). With `onlyWhereDrawn`, only tiles that a draw of this batch
+    // may have touched since its last clear of all tiles are cleared (a tile is drawn where the
+    // draw binned a triangle into it): the caller states that every other pixel already holds the
+    // cleared values. Sets the batch's targets' size to `depthStencil`'s, like a draw.
+    void clearDepthStencil(Surface& depthStencil, bool clearDepth, float depth, bool clearStencil, std::uint8_t stencil,
+                           std::uint8_t stencilWriteMask, bool onlyWhereDrawn);
+
     // Moves `value` into storage that lives until the next run() returns (or the batch is
     // destroyed): shader data the draws point to, including draws that draw() runs at once.
     template <class T>
@@ -65,7 +74,11 @@ private:
         T value;
     };
 
-    void record(std::unique_ptr<detail::RecordedDraw> draw, std::uint32_t width, std::uint32_t height, std::uint32_t sampleCount);
+    // Establishes the tile grid of width x height targets with `sampleCount` samples; runs what
+    // is recorded first, and forgets which tiles were drawn, when it differs from the current one.
+    void useTargets(std::uint32_t width, std::uint32_t height, std::uint32_t sampleCount);
+    // Marks the tiles overlapping `rect` as drawn (a draw run at once).
+    void markDrawn(const PixelRect& rect);
     // Runs the recorded draws, adding their stats to mStats, and releases their scratch; kept
     // values stay (a draw about to be issued may point into them).
     void flush();
@@ -76,6 +89,9 @@ private:
     std::vector<std::unique_ptr<detail::RecordedDraw>> mDraws;
     std::vector<std::unique_ptr<Kept>> mKept;
     std::uint32_t mWidth = 0, mHeight = 0, mSampleCount = 0;  // the recorded draws' targets
+    // Per tile of the grid: 1 where a draw may have written since the last clear of all tiles
+    // (all 1 when the grid is established: what came before the batch is not known).
+    std::vector<std::uint8_t> mTileDirty;
     DrawStats mStats;                                          // of draws run since the last run()
 };
 

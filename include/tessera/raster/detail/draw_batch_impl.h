@@ -10,16 +10,19 @@ namespace tessera {
 
 namespace detail {
 
-// A recorded draw: its job's steps behind one indirect call each. The job holds its own scratch
-// (taken from the device's pool, returned when the batch is done with it).
+// A recorded command of a batch, replayed tile by tile: a draw (RecordedJob) or a depth-stencil
+// clear (RecordedClear, src/raster/draw_batch.cpp). A draw holds its own scratch (taken from the
+// device's pool, returned when the batch is done with it).
 struct RecordedDraw {
-    explicit RecordedDraw(std::unique_ptr<detail::DrawScratch> s) : scratch(std::move(s)) {}
+    explicit RecordedDraw(std::unique_ptr<DrawScratch> s) : scratch(std::move(s)) {}
     virtual ~RecordedDraw() = default;
-    // Vertex stage, setup and binning of every triangle of the draw.
+    // Vertex stage, setup and binning of every triangle of the draw (nothing for a clear).
     virtual void prepare() = 0;
-    virtual void rasterizeTile(std::size_t tileIndex, TileCounters& counters) const = 0;
+    // Runs the command over tile `tileIndex`. `drawn`: whether a draw may have touched the tile
+    // since the last clear; returns the same after this command.
+    virtual bool replayTile(std::size_t tileIndex, const PixelRect& tile, TileCounters& counters, bool drawn) const = 0;
+    virtual bool isDraw() const = 0;
     virtual bool perSampleShader() const = 0;
-    virtual const TileBins& bins() const = 0;
     virtual DrawStats& stats() = 0;
     std::unique_ptr<DrawScratch> scratch;
 };
@@ -34,9 +37,11 @@ struct RecordedJob final : RecordedDraw {
         job.shadeVertices();
         job.setup(0, job.triangleCount());
     }
-    void rasterizeTile(std::size_t tileIndex, TileCounters& counters) const override { job.rasterizeTile(tileIndex, counters); }
+    bool replayTile(std::size_t tileIndex, const PixelRect&, TileCounters& counters, bool drawn) const override {
+        return job.rasterizeTile(tileIndex, counters) || drawn;
+    }
+    bool isDraw() const override { return true; }
     bool perSampleShader() const override { return perSample<PS>(); }
-    const TileBins& bins() const override { return job.bins(); }
     DrawStats& stats() override { return job.stats(); }
     DrawJob<Vertex, VS, PS> job;
 };
@@ -50,19 +55,19 @@ void DrawBatch::draw(const DrawState& state, const RenderTargets& targets, std::
     detail::checkVaryings<VS, PS>();
     const DrawTargets dt = detail::checkDraw<PS>(state, targets, mDevice.config().tileSize, vertices.size(), indices.size());
     const std::size_t triangles = (indices.empty() ? vertices.size() : indices.size()) / 3;
-    const bool sameTargets = mDraws.empty() || (dt.width == mWidth && dt.height == mHeight && dt.sampleCount == mSampleCount);
+    useTargets(dt.width, dt.height, dt.sampleCount);  // runs what is recorded first if the grid changes
     if (!mDevice.config().binPasses || triangles > detail::kBatchTriangles) {
         // Not binned: what is recorded runs first, so the order is kept.
         flush();
-        mStats += mDevice.draw(state, targets, vertices, indices, vs, ps);
+        const DrawStats s = mDevice.draw(state, targets, vertices, indices, vs, ps);
+        markDrawn(s.setup.touched);
+        mStats += s;
         return;
     }
-    if (!sameTargets) flush();  // a tile grid of other targets: the recorded draws run first
     const auto shader = detail::drawVertexShader<VS, PS>(vs);
     using DrawVS = std::remove_cvref_t<decltype(shader)>;
-    record(std::make_unique<detail::RecordedJob<Vertex, DrawVS, PS>>(mDevice.takeScratch(), state, targets, dt, vertices, indices,
-                                                                     shader, ps, mDevice.drawEnv()),
-           dt.width, dt.height, dt.sampleCount);
+    mDraws.push_back(std::make_unique<detail::RecordedJob<Vertex, DrawVS, PS>>(mDevice.takeScratch(), state, targets, dt, vertices,
+                                                                             indices, shader, ps, mDevice.drawEnv()));
 }
 
 template <class T>

@@ -1034,12 +1034,14 @@ public:
         mStats.binnedTileTriangles += mBins.refs.size();
     }
 
-    // Rasterizes this batch's triangles binned into tile `tileIndex`, adding to `counters`.
-    void rasterizeTile(std::size_t tileIndex, TileCounters& counters) const {
+    // Rasterizes this batch's triangles binned into tile `tileIndex`, adding to `counters`; false
+    // when none was binned there (the draw touches no pixel of the tile).
+    bool rasterizeTile(std::size_t tileIndex, TileCounters& counters) const {
         const std::span<const TriangleRef> list(mBins.refs.data() + mBins.offsets[tileIndex],
                                                 mBins.offsets[tileIndex + 1] - mBins.offsets[tileIndex]);
-        if (list.empty()) return;
+        if (list.empty()) return false;
         mRaster(mDc, tileRect(mBins, tileIndex, mDt.width, mDt.height), list, mScratch.chunks, mPs, counters);
+        return true;
     }
 
 private:
