@@ -23,8 +23,16 @@ if [[ $# -gt 0 ]]; then patches=("$@"); else patches=("$ROOT"/tests/mutations/*.
 case $SCRATCH in "$ROOT"|"$ROOT"/*) echo "mutation-check: scratch dir must be outside the tree" >&2; exit 2 ;; esac
 
 # 1. Scratch copy of the working tree (tracked + untracked, not ignored; deleted files skipped).
+#    The copy keeps the files' mtimes, so an object compiled from a mutant is newer than the
+#    restored source and would not be rebuilt: a run that did not end with the baseline rebuilt
+#    (step 3's last build; interrupted, or an older version of this script) leaves the build
+#    marked dirty, and the next run starts it afresh.
 SOURCE=${MUTATION_SOURCE:-$ROOT}
 echo "== copying $SOURCE to $TREE"
+if [[ -e $BUILD/.mutant-objects ]]; then
+    echo "== the last run left mutant objects: rebuilding from scratch"
+    rm -rf "$BUILD"
+fi
 mkdir -p "$TREE" "$BUILD"
 find "$TREE" -mindepth 1 -maxdepth 1 ! -name build -exec rm -rf {} +
 if git -C "$SOURCE" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
@@ -62,9 +70,10 @@ echo "== baseline build and tests (must pass)"
 build || { echo "mutation-check: baseline build failed, see $SCRATCH/build.log" >&2; exit 2; }
 run_tests || { echo "mutation-check: baseline tests fail, see $SCRATCH/ctest.log" >&2; exit 2; }
 
-# 3. Each mutation: apply, rebuild, run, revert.
+# 3. Each mutation: apply, rebuild, run, revert; then rebuild the baseline.
 declare -a rows
 survivors=0
+touch "$BUILD/.mutant-objects"
 for p in "${patches[@]}"; do
     name=$(basename "$p" .patch)
     desc=$(head -n 1 "$p")
@@ -92,6 +101,10 @@ for p in "${patches[@]}"; do
     rows+=("$(printf '%-28s %-9s %4ss  %s' "$name" "$status" $((SECONDS - started)) "$caught")")
     echo "   $status: $caught"
 done
+
+# The reverted files are newer than their mutant objects: one build brings every object back
+# to the baseline, and only then is the build clean.
+build && rm -f "$BUILD/.mutant-objects"
 
 echo
 printf '%-28s %-9s %5s  %s\n' "mutation" "result" "time" "caught by (failing ctest tests)"
