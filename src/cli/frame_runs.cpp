@@ -108,9 +108,12 @@ void printDrawStats(const tessera::DrawStats& s) {
     }
     std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
                 (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
-    // Draws binned into shared tile lists (raster/draw_batch.h), and in how many sweeps of the tiles.
-    std::printf("binned   %llu draws in %llu runs of shared tile lists\n", (unsigned long long)s.binnedDraws,
+    // Draws binned into shared tile lists (raster/draw_batch.h), in how many sweeps of the tiles,
+    // and the tiles the batches' recorded clears cleared (the deferred light loop's stencil).
+    std::printf("binned   %llu draws in %llu runs of shared tile lists", (unsigned long long)s.binnedDraws,
                 (unsigned long long)s.binnedRuns);
+    if (s.batchClearedTiles > 0) std::printf(", %llu tiles cleared between them", (unsigned long long)s.batchClearedTiles);
+    std::printf("\n");
 }
 
 void printShadowStats(const tessera::BufferRegistry& registry) {

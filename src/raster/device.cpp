@@ -31,6 +31,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     leanBlocks += o.leanBlocks;
     binnedDraws += o.binnedDraws;
     binnedRuns += o.binnedRuns;
+    batchClearedTiles += o.batchClearedTiles;
     for (const auto& [path, draws] : o.paths) paths[path] += draws;
     setup.touched = unite(setup.touched, o.setup.touched);
     return *this;
@@ -157,12 +158,17 @@ DrawTargets validateDraw(const DrawState& state, const RenderTargets& targets, s
 
 namespace detail {
 
+TileBins tileGrid(std::uint32_t width, std::uint32_t height, std::uint32_t tileSize) {
+    TileBins grid;
+    grid.tileSize = tileSize;
+    grid.tilesX = (width + tileSize - 1) / tileSize;
+    grid.tilesY = (height + tileSize - 1) / tileSize;
+    return grid;
+}
+
 TileBins binTriangles(const std::vector<SetupChunk>& chunks, std::uint32_t width, std::uint32_t height,
                       std::uint32_t tileSize) {
-    TileBins bins;
-    bins.tileSize = tileSize;
-    bins.tilesX = (width + tileSize - 1) / tileSize;
-    bins.tilesY = (height + tileSize - 1) / tileSize;
+    TileBins bins = tileGrid(width, height, tileSize);
     const std::size_t nTiles = bins.tileCount();
     const std::int32_t ts = std::int32_t(tileSize);
     auto forEachTile = [&](const PixelRect& b, auto&& f) {

@@ -13,16 +13,6 @@ namespace tessera {
 
 namespace {
 
-// The batch's tile grid over width x height targets (lists empty): the grid every recorded draw
-// was binned over, as Device::draw bins (the device's tile size).
-detail::TileBins tileGrid(std::uint32_t width, std::uint32_t height, std::uint32_t tileSize) {
-    detail::TileBins grid;
-    grid.tileSize = tileSize;
-    grid.tilesX = (width + tileSize - 1) / tileSize;
-    grid.tilesY = (height + tileSize - 1) / tileSize;
-    return grid;
-}
-
 // One depth-stencil clear's arguments (DrawBatch::clearDepthStencil's).
 struct ClearArgs {
     bool clearDepth = false;
@@ -41,12 +31,14 @@ struct ClearArgs {
 struct RecordedClear final : detail::RecordedDraw {
     RecordedClear(Surface& s, const ClearArgs& a) : RecordedDraw(nullptr), surface(s), args(a) {}
     void prepare() override {}
-    bool replayTile(std::size_t, const PixelRect& tile, detail::TileCounters&, bool drawn) const override {
-        if (drawn || !args.onlyWhereDrawn) args.onRect(surface, tile);
+    bool replayTile(std::size_t, const PixelRect& tile, detail::TileCounters& counters, bool drawn) const override {
+        if (drawn || !args.onlyWhereDrawn) {
+            args.onRect(surface, tile);
+            ++counters.clearedTiles;
+        }
         return false;  // nothing drawn there since this clear
     }
     bool isDraw() const override { return false; }
-    bool perSampleShader() const override { return false; }
     DrawStats& stats() override { return none; }
 
     Surface& surface;
@@ -69,12 +61,12 @@ void DrawBatch::useTargets(std::uint32_t width, std::uint32_t height, std::uint3
     mWidth = width;
     mHeight = height;
     mSampleCount = sampleCount;
-    mTileDirty.assign(tileGrid(width, height, mDevice.config().tileSize).tileCount(), 1);
+    mTileDirty.assign(detail::tileGrid(width, height, mDevice.config().tileSize).tileCount(), 1);
 }
 
 void DrawBatch::markDrawn(const PixelRect& rect) {
     if (rect.empty()) return;
-    const detail::TileBins grid = tileGrid(mWidth, mHeight, mDevice.config().tileSize);
+    const detail::TileBins grid = detail::tileGrid(mWidth, mHeight, mDevice.config().tileSize);
     const std::int32_t ts = std::int32_t(grid.tileSize);
     const std::int32_t tx1 = std::min((rect.maxX + ts - 1) / ts, std::int32_t(grid.tilesX));
     const std::int32_t ty1 = std::min((rect.maxY + ts - 1) / ts, std::int32_t(grid.tilesY));
@@ -93,10 +85,13 @@ void DrawBatch::clearDepthStencil(Surface& depthStencil, bool clearDepth, float 
         return;
     }
     // Draw by draw: one clear of the rectangle bounding the drawn tiles (or all of them).
-    const detail::TileBins grid = tileGrid(mWidth, mHeight, mDevice.config().tileSize);
+    const detail::TileBins grid = detail::tileGrid(mWidth, mHeight, mDevice.config().tileSize);
     PixelRect rect;
     for (std::size_t t = 0; t < mTileDirty.size(); ++t)
-        if (mTileDirty[t] || !onlyWhereDrawn) rect = unite(rect, detail::tileRect(grid, t, mWidth, mHeight));
+        if (mTileDirty[t] || !onlyWhereDrawn) {
+            rect = unite(rect, detail::tileRect(grid, t, mWidth, mHeight));
+            ++mStats.batchClearedTiles;
+        }
     if (!rect.empty()) args.onRect(depthStencil, rect);
     std::fill(mTileDirty.begin(), mTileDirty.end(), std::uint8_t(0));
 }
@@ -119,7 +114,7 @@ void DrawBatch::flush() {
             for (std::size_t i = r.begin(); i != r.end(); ++i) mDraws[i]->prepare();
         });
         // Every draw was binned over this grid (same targets, the device's tile size).
-        const detail::TileBins grid = tileGrid(mWidth, mHeight, mDevice.config().tileSize);
+        const detail::TileBins grid = detail::tileGrid(mWidth, mHeight, mDevice.config().tileSize);
         const std::size_t nTiles = grid.tileCount();
         std::vector<detail::TileCounters> counters(nTiles);
         std::vector<std::uint64_t> perSampleInvocations(nTiles, 0);
@@ -128,9 +123,10 @@ void DrawBatch::flush() {
                 const PixelRect rect = detail::tileRect(grid, tile, mWidth, mHeight);
                 bool drawn = mTileDirty[tile] != 0;
                 for (const std::unique_ptr<detail::RecordedDraw>& d : mDraws) {
+                    if (d->bins && d->bins->offsets[tile] == d->bins->offsets[tile + 1]) continue;  // the draw misses the tile
                     const std::uint64_t before = counters[tile].psInvocations;
                     drawn = d->replayTile(tile, rect, counters[tile], drawn);
-                    if (d->perSampleShader()) perSampleInvocations[tile] += counters[tile].psInvocations - before;
+                    if (d->perSample) perSampleInvocations[tile] += counters[tile].psInvocations - before;
                 }
                 mTileDirty[tile] = drawn ? 1 : 0;
             }

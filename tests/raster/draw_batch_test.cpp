@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -259,11 +260,12 @@ TEST_CASE("draw batch: draws it cannot bin run at once, in order: binPasses off,
 struct LightLoop {
     Surface color, depth;
     DrawStats stats;
+    std::vector<glm::vec4> outer;  // each light's outer quad in window pixels: x0, y0, x1, y1
 };
 
 LightLoop lightLoop(int mode, std::uint32_t threads, std::uint32_t tileSize) {  // mode 0: whole clears, draws on the device; 1: batch; 2: batch, binPasses off
     constexpr std::uint32_t w = 77, h = 53;
-    LightLoop f{Surface({w, h, Format::R32_FLOAT, 1}), Surface({w, h, Format::D24_UNORM_S8_UINT, 1}), {}};
+    LightLoop f{Surface({w, h, Format::R32_FLOAT, 1}), Surface({w, h, Format::D24_UNORM_S8_UINT, 1}), {}, {}};
     f.color.clearColor(glm::vec4(0.0f));
     f.depth.clearDepthStencil(true, 1.0f, true, 2);  // the marked value everywhere: the first clear must be whole
     DeviceConfig config{tileSize, threads};
@@ -296,6 +298,7 @@ LightLoop lightLoop(int mode, std::uint32_t threads, std::uint32_t tileSize) {  
         const float x = pos(rng), y = pos(rng), r = size(rng);
         const std::span<const ColorVertex> inner = quad(x - r, y - r, x + r, y + r);
         const std::span<const ColorVertex> outer = quad(x - 2.0f * r, y - 2.0f * r, x + 2.0f * r, y + 2.0f * r);
+        f.outer.emplace_back(x - 2.0f * r, y - 2.0f * r, x + 2.0f * r, y + 2.0f * r);
         if (mode == 0) {
             f.depth.clearDepthStencil(false, 0.0f, true, kClear);
             f.stats += dev.draw(mark, depthOnly, inner, {}, PassThroughVS{}, NoPixelShader{});
@@ -334,7 +337,31 @@ TEST_CASE("draw batch: recorded stencil clears keep their place between draws, a
                 // Clears are not draws: 48 draws binned in one run.
                 CHECK(f.stats.binnedDraws == (mode == 1 ? 48u : 0u));
                 CHECK(f.stats.binnedRuns == (mode == 1 ? 1u : 0u));
+                // The clears' work is bounded by the volumes, not the target: light 0 clears every
+                // tile, light k > 0 the tiles light k - 1's quads were binned into. The outer quad
+                // holds the inner one, and its triangles' bounds hold at least the tiles of the
+                // pixels whose centres it covers and at most those of its extent grown by a pixel.
+                const auto tiles = [&](std::int32_t x0, std::int32_t y0, std::int32_t x1, std::int32_t y1) -> std::uint64_t {
+                    x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, 76), y1 = std::min(y1, 52);  // inclusive pixels
+                    if (x0 > x1 || y0 > y1) return 0;
+                    return std::uint64_t(x1 / std::int32_t(tile) - x0 / std::int32_t(tile) + 1) *
+                           std::uint64_t(y1 / std::int32_t(tile) - y0 / std::int32_t(tile) + 1);
+                };
+                const std::uint64_t all = tiles(0, 0, 76, 52);
+                std::uint64_t low = all, high = all;
+                for (std::size_t k = 0; k + 1 < f.outer.size(); ++k) {
+                    const glm::vec4 q = f.outer[k];
+                    low += tiles(std::int32_t(std::ceil(q.x - 0.5f)), std::int32_t(std::ceil(q.y - 0.5f)),
+                                 std::int32_t(std::floor(q.z - 0.5f)), std::int32_t(std::floor(q.w - 0.5f)));
+                    high += tiles(std::int32_t(std::floor(q.x)) - 1, std::int32_t(std::floor(q.y)) - 1, std::int32_t(std::ceil(q.z)),
+                                  std::int32_t(std::ceil(q.w)));
+                }
+                CHECK(f.stats.batchClearedTiles >= low);
+                CHECK(f.stats.batchClearedTiles <= high);
+                if (tile == 8) CHECK(high < 24 * all);  // here a clear of every tile per light would fail the bound
             }
+            // Both batch modes clear the same tiles (draw by draw, as their bounding rectangle).
+            CHECK(lightLoop(1, threads, tile).stats.batchClearedTiles == lightLoop(2, threads, tile).stats.batchClearedTiles);
         }
     }
 }

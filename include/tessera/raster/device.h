@@ -56,6 +56,11 @@ struct DrawStats {
     // Draws rasterized through a DrawBatch's shared tile lists (raster/draw_batch.h), and the
     // batch runs that rasterized them: draws / runs is how many draws shared one sweep of the tiles.
     std::uint64_t binnedDraws = 0, binnedRuns = 0;
+    // Tiles cleared by a DrawBatch's recorded depth-stencil clears (DrawBatch::clearDepthStencil):
+    // every tile for a whole clear, else those a draw of the batch binned a triangle into since the
+    // last whole clear. Binned, each is one tile's clear; draw by draw, the batch clears their
+    // bounding rectangle once, and counts the same tiles.
+    std::uint64_t batchClearedTiles = 0;
     // Draws per pipeline path the rasterizer specialised for (what the draw's state and shader
     // require, nothing more): "ps depth:D24 1x raster:exact", "no-ps depth:General 4x ...",
     // with "blend" when a target blends. The paths a frame took, for --stats.

@@ -22,9 +22,13 @@ struct RecordedDraw {
     // since the last clear; returns the same after this command.
     virtual bool replayTile(std::size_t tileIndex, const PixelRect& tile, TileCounters& counters, bool drawn) const = 0;
     virtual bool isDraw() const = 0;
-    virtual bool perSampleShader() const = 0;
     virtual DrawStats& stats() = 0;
     std::unique_ptr<DrawScratch> scratch;
+    // Read by the tile sweep without a virtual call: a draw's tile lists (filled by prepare(); a
+    // tile with an empty list is skipped) and whether its shader runs per sample; a clear has no
+    // lists and runs on every tile.
+    const TileBins* bins = nullptr;
+    bool perSample = false;
 };
 
 template <class Vertex, class VS, class PS>
@@ -32,7 +36,10 @@ struct RecordedJob final : RecordedDraw {
     RecordedJob(std::unique_ptr<DrawScratch> s, const DrawState& state, const RenderTargets& targets, const DrawTargets& dt,
                 std::span<const Vertex> vertices, std::span<const std::uint32_t> indices, const VS& vs, const PS& ps,
                 const DrawEnv& env)
-        : RecordedDraw(std::move(s)), job(state, targets, dt, vertices, indices, vs, ps, env, *scratch) {}
+        : RecordedDraw(std::move(s)), job(state, targets, dt, vertices, indices, vs, ps, env, *scratch) {
+        bins = &job.bins();
+        perSample = detail::perSample<PS>();
+    }
     void prepare() override {
         job.shadeVertices();
         job.setup(0, job.triangleCount());
@@ -41,7 +48,6 @@ struct RecordedJob final : RecordedDraw {
         return job.rasterizeTile(tileIndex, counters) || drawn;
     }
     bool isDraw() const override { return true; }
-    bool perSampleShader() const override { return perSample<PS>(); }
     DrawStats& stats() override { return job.stats(); }
     DrawJob<Vertex, VS, PS> job;
 };

@@ -65,6 +65,9 @@ struct TileBins {
     std::vector<TriangleRef> refs;
     std::size_t tileCount() const { return std::size_t(tilesX) * tilesY; }
 };
+// The grid of tileSize-px tiles over width x height targets, lists empty: the grid every draw on
+// such targets is binned over (binTriangles) and a DrawBatch sweeps.
+TileBins tileGrid(std::uint32_t width, std::uint32_t height, std::uint32_t tileSize);
 // Parallel over groups of chunks (count, prefix sum, scatter); the lists do not depend on the
 // grouping or thread count, only on the triangles.
 TileBins binTriangles(const std::vector<SetupChunk>& chunks, std::uint32_t width, std::uint32_t height,
@@ -262,6 +265,7 @@ inline void depthStencilUpdate(const DepthStencilUnit& ds, bool d24, std::byte* 
 
 struct TileCounters {
     std::uint64_t quads = 0, psInvocations = 0, samplesPassed = 0, simdBlocks = 0, leanBlocks = 0;
+    std::uint64_t clearedTiles = 0;  // the tile's rectangle cleared by a DrawBatch's recorded clears
 };
 
 // Adds a tile's counters to a draw's (or a batch's) stats; perSample: the invocations were of a
@@ -273,6 +277,7 @@ inline void addTileCounters(DrawStats& stats, const TileCounters& c, bool perSam
     stats.samplesPassed += c.samplesPassed;
     stats.simdBlocks += c.simdBlocks;
     stats.leanBlocks += c.leanBlocks;
+    stats.batchClearedTiles += c.clearedTiles;
 }
 
 // A draw's working storage (set-up chunks, per-tile counters, vertex outputs), kept by the
