@@ -13,7 +13,7 @@ for f in "${frames[@]}"; do
   set -- $f
   for t in ${threads//,/ }; do
     for mode in binned draw-by-draw; do
-      flag=(); [[ $mode == draw-by-draw ]] && flag=(--draw-by-draw)
+      flag=(--binned); [[ $mode == draw-by-draw ]] && flag=(--draw-by-draw)  # --binned: the CLI draws draw by draw at 1 thread
       out=$("$bin" render "$scenes/$2.json" --technique "$1" --width 1280 --height 720 --threads "$t" \
             --repeat "$repeat" --warmup 1 --no-output --stats --quiet "${flag[@]}" 2>&1)
       passes=$(awk '/^pass /{l=$0; sub(/^pass +/, "", l); n=match(l, / +[0-9.]+ ms/); split(substr(l, n), a, " ");

@@ -1,6 +1,7 @@
 // Running and timing a frame for `tessera render` (frame_runs.h).
 #include "frame_runs.h"
 
+#include <array>
 #include <cstdio>
 #include <cstring>
 
@@ -86,6 +87,39 @@ void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine)
         const auto [lo, hi] = std::minmax_element(runs.frameMs.begin(), runs.frameMs.end());
         std::printf("frame    %9.3f ms  (%.3f..%.3f)\n", median(runs.frameMs), *lo, *hi);
     }
+}
+
+void printBufferStats(const tessera::Frame& frame, const tessera::BufferRegistry& registry, bool inspection) {
+    using Role = tessera::BufferUse::Role;
+    const std::array<std::string_view, 2> images{tessera::kBackBufferName, tessera::kReferenceBufferName};
+    const std::vector<tessera::BufferUse> uses = tessera::auditBuffers(frame, registry, images, inspection);
+    std::array<std::uint64_t, 4> count{}, bytes{};
+    std::array<std::string, 4> names;
+    for (const tessera::BufferUse& u : uses) {
+        const std::size_t r = std::size_t(u.role);
+        ++count[r];
+        bytes[r] += u.bytes;
+        names[r] += (names[r].empty() ? "" : ", ") + u.name;
+    }
+    const auto mib = [](std::uint64_t b) { return double(b) / (1024.0 * 1024.0); };
+    std::printf("buffers  %zu, %.1f MiB: %llu read by a later pass (%.1f MiB)", uses.size(), mib(registry.bytes()),
+                (unsigned long long)count[std::size_t(Role::Read)], mib(bytes[std::size_t(Role::Read)]));
+    if (count[std::size_t(Role::Image)] > 0)
+        std::printf(", %llu image read by no pass (%.1f MiB)", (unsigned long long)count[std::size_t(Role::Image)],
+                    mib(bytes[std::size_t(Role::Image)]));
+    if (count[std::size_t(Role::Inspection)] > 0)
+        std::printf(", %llu for inspection (%.1f MiB: %s)", (unsigned long long)count[std::size_t(Role::Inspection)],
+                    mib(bytes[std::size_t(Role::Inspection)]), names[std::size_t(Role::Inspection)].c_str());
+    if (count[std::size_t(Role::Unread)] > 0)
+        std::printf(", %llu read by nothing (%.1f MiB: %s)", (unsigned long long)count[std::size_t(Role::Unread)],
+                    mib(bytes[std::size_t(Role::Unread)]), names[std::size_t(Role::Unread)].c_str());
+    // Passes skipped because nothing looks at what they write (without --dump or --probe).
+    std::string skipped;
+    if (!inspection)
+        for (const tessera::Pass& p : frame.passes())
+            if (p.inspectionOnly()) skipped += (skipped.empty() ? "" : ", ") + p.name;
+    if (!skipped.empty()) std::printf("; skipped inspection-only passes: %s (--dump or --probe runs them)", skipped.c_str());
+    std::printf("\n");
 }
 
 void printPeakMemory() { std::printf("peak memory  %.1f MiB\n", peakRssMiB()); }

@@ -27,6 +27,10 @@ namespace tessera::cli {
 using Clock = std::chrono::steady_clock;
 inline double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// Whether a render looks at its intermediate buffers (--dump, with --dump-after, or --probe): without,
+// the frame skips the passes that only write buffers to be looked at (Pass::inspectionOnly).
+inline bool inspects(const RenderOptions& o) { return !o.dumpDir.empty() || o.probe.has_value(); }
+
 // What runFrames measured and wrote.
 struct FrameRuns {
     std::vector<std::vector<tessera::PassTiming>> passes;  // per timed run, in pass order
@@ -72,7 +76,7 @@ FrameRuns runFrames(const tessera::Frame& frame, tessera::BufferRegistry& regist
                 runs.after[pass.name] = {{"folder", "after-" + pass.name}, {"buffers", buffers}};
             };
         const auto t = Clock::now();
-        std::vector<tessera::PassTiming> timings = frame.run(registry, afterPass);
+        std::vector<tessera::PassTiming> timings = frame.run(registry, afterPass, inspects(o));
         const double ms = msSince(t);
         if (device) device->setPixelWatch(nullptr);
         if (i < o.warmup) continue;
@@ -100,6 +104,9 @@ void printTimings(const FrameRuns& runs, const RenderOptions& o, bool frameLine)
 void printDrawStats(const DrawStats& s);
 // forward-plus-amd's ray-cast shadows (GPU Pro 4 §5.6.2): its "shadow.counters" as one line.
 void printShadowStats(const BufferRegistry& registry);
+// "buffers  N, X MiB: ..." : the frame's buffers by why they exist (frame/frame.h auditBuffers):
+// read by a later pass, the image, written for inspection, and any that nothing reads.
+void printBufferStats(const Frame& frame, const BufferRegistry& registry, bool inspection);
 // "peak memory  N MiB": the process's peak resident set size (getrusage ru_maxrss).
 void printPeakMemory();
 

@@ -64,7 +64,9 @@ options:
   --scalar-raster   rasterize every quad on the scalar path instead of 8x8 SIMD blocks (the same
                     bytes; for comparing speed, and as the oracle the tests hold the SIMD path to)
   --draw-by-draw    run every draw on its own (setup, tiles, barrier) instead of binning a pass's
-                    draws into shared tile lists (the same bytes; for comparing speed and scaling)
+                    draws into shared tile lists (the same bytes; for comparing speed and scaling);
+                    the default with --threads 1, where binning saves no barrier and costs cache
+  --binned          bin a pass's draws even with --threads 1 (the same bytes; for measuring)
   --msaa S          samples per pixel, 1, 2, 4 or 8 (default 1); techniques without MSAA refuse more
   --dump DIR        also write every named buffer into DIR (<name>.png/.exr/.tif, stencil as <name>.stencil.png),
                     a viewable picture of each in DIR/view/ (depth stretched, stencil and integers through
@@ -94,8 +96,9 @@ options:
                     up the image, as glTF 2.0 §3.9.3 reads normal textures (up, default), or down it
                     (tessera's generator before ERRATA #33, which read a normal map's green channel
                     inverted; for comparison)
-  --stats           print load, per-pass and frame times, draw counters, peak memory (peak RSS) and the
-                    FNV-1a 64 hash of each written file
+  --stats           print load, per-pass and frame times, draw counters, the draw paths taken, the
+                    frame's buffers by why they exist (read later, image, inspection), peak memory
+                    (peak RSS) and the FNV-1a 64 hash of each written file
   --progress        show a progress bar even when stderr is not a terminal
   --quiet           print nothing on success (no progress bar, no warnings or note about what the
                     technique skipped or clamped; --dump's manifest.json keeps them under "notes")
@@ -387,7 +390,8 @@ nlohmann::json sceneManifest(const tessera::Frame& frame, const FrameRuns& runs,
 // --stats for a scene render: the scene line, load and texture times, pass and frame times, draw
 // and shadow counters, peak memory, the shader variants drawn and the written files' hashes.
 void printSceneStats(const LoadedScene& loaded, const tessera::SceneResources& resources, double texturesMs, const FrameRuns& runs,
-                     const RenderOptions& o, const tessera::DrawStats& drawStats, const tessera::BufferRegistry& registry,
+                     const RenderOptions& o, const tessera::DrawStats& drawStats, const tessera::Frame& frame,
+                     const tessera::BufferRegistry& registry,
                      const std::map<std::string, std::uint64_t>& variantCounts, const std::vector<WrittenFile>& written,
                      const DumpStaging* staging) {
     const fs::path& sceneFile = loaded.file;
@@ -404,6 +408,7 @@ void printSceneStats(const LoadedScene& loaded, const tessera::SceneResources& r
         printTimings(runs, o, true);
         printDrawStats(drawStats);
         printShadowStats(registry);
+        printBufferStats(frame, registry, inspects(o));
         printPeakMemory();
         for (const auto& [variant, draws] : variantCounts)
             std::printf("variant  %-40s %6llu draws\n", variant.c_str(), (unsigned long long)draws);
@@ -496,7 +501,7 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
         written.insert(written.begin(), lightWritten.begin(), lightWritten.end());
         progress.finish();
         if (!o.quiet && !o.probeJson) printFrameNotes(desc.technique, ctx.options, notes, registry);  // --json: one JSON object
-        if (o.stats) printSceneStats(loaded, resources, texturesMs, runs, o, drawStats, registry, variantCounts, written, &staging);
+        if (o.stats) printSceneStats(loaded, resources, texturesMs, runs, o, drawStats, frame, registry, variantCounts, written, &staging);
         if (history) {
             history->addTileInfo(registry, lightGridTileSize(desc), scene.lights.size());
             if (o.probeJson) {
@@ -574,6 +579,7 @@ int renderBuiltin(const RenderOptions& o, DumpStaging* staging) {
     if (o.stats) {
         printTimings(runs, o, o.repeat > 1);
         printDrawStats(drawStats);
+        printBufferStats(frame, registry, inspects(o));
         printPeakMemory();
         printHashes(written, staging);
     }

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
+#include <thread>
 
 #include <tessera/state/viewport.h>
 #include <tessera/techniques/option_catalog.h>
@@ -79,7 +80,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         else std::fprintf(stderr, "tessera: warning: %s\n", text.c_str());
     };
     RenderOptions o;
-    bool sceneGiven = false;
+    bool sceneGiven = false, drawByDrawGiven = false, binnedGiven = false;
     ArgCursor cursor(args);
     while (cursor.next()) {
         const std::string_view a = cursor.flag();
@@ -92,7 +93,10 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             o.outGiven = true;
         } else if (a == "--no-output") o.noOutput = true;
         else if (a == "--scalar-raster") o.device.simdBlocks = false;
-        else if (a == "--draw-by-draw") o.device.binPasses = false;
+        else if (a == "--draw-by-draw") {
+            o.device.binPasses = false;
+            drawByDrawGiven = true;
+        } else if (a == "--binned") binnedGiven = true;
         else if (a == "--no-default-lights") o.noDefaultLights = true;
         else if (a == "--double-sided-normals") {
             const std::string_view mode = value();
@@ -179,6 +183,13 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         }
     }
     if (o.quiet) o.progress = Progress::Mode::Off;
+    if (drawByDrawGiven && binnedGiven) throw UsageError("--draw-by-draw and --binned: choose one");
+    // One thread has no barrier between draws to save, and a tile that replays every draw of a pass
+    // reads set-up triangles and textures that drawing draw by draw keeps in cache: deferred's
+    // passes ran 8-15% slower binned at 1 thread (bench/RESULTS.md, "Whole-pass binning"). The bytes
+    // are the same either way.
+    const unsigned threads = o.device.threads != 0 ? o.device.threads : std::thread::hardware_concurrency();
+    if (threads == 1 && !binnedGiven) o.device.binPasses = false;
     // An unknown technique is an error on every scene, the builtin one included.
     if (!o.technique.empty()) requireKnownTechnique("--technique", o.technique);
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");

@@ -455,7 +455,11 @@ Pass lightsPass(const std::shared_ptr<DeferredSetup>& setup, const TechniqueCont
     lightReads.emplace_back("depth.copy");
     std::vector<std::string> lightWrites = lightTargets;
     lightWrites.emplace_back("depth");
-    if (setup->method == Method::Killzone) lightWrites.emplace_back("killzone.samples");
+    std::vector<std::string> inspection;  // Killzone 2's per-light sample counts: no later pass reads them
+    if (setup->method == Method::Killzone) {
+        lightWrites.emplace_back("killzone.samples");
+        inspection.emplace_back("killzone.samples");
+    }
     if (opt.accumulateLighting) lightReads.insert(lightReads.end(), lightTargets.begin(), lightTargets.end());
     return {"lights", lightReads, lightWrites, [setup, device, stats, variantCounts](BufferRegistry& reg) {
                    LightingInputs& in = setup->inputs;
@@ -472,7 +476,8 @@ Pass lightsPass(const std::shared_ptr<DeferredSetup>& setup, const TechniqueCont
                        if (reference) runLights<1, double>(*setup, *device, reg, stats, variantCounts);
                        else runLights<1, float>(*setup, *device, reg, stats, variantCounts);
                    }
-               }};
+               },
+            inspection};
 }
 
 // The "compose" pass (accumulate lighting): forward's final expression on every pixel in front of

@@ -126,7 +126,8 @@ Frame buildForwardPlus(const TechniqueContext& ctx) {
                    Surface& heatmap =
                        reg.create("heatmap", {st->setup->width, st->setup->height, Format::R32G32B32A32_FLOAT, 1});
                    writeHeatMap(*device, grid, st->options.tileSizePx, heatmap);
-               }});
+               },
+               {"heatmap"}});
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
             const ForwardPlusCounters counters = readForwardPlusCounters(reg);

@@ -126,7 +126,8 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     Frame frame;
     if (st->indirectActive) {
         frame.add({"rsm", {}, {"rsm.position", "rsm.normal", "rsm.color", "rsm.depth"},
-                   [st, device, res, stats](BufferRegistry& reg) { drawRsm(*st, *device, *res, reg, stats); }});
+                   [st, device, res, stats](BufferRegistry& reg) { drawRsm(*st, *device, *res, reg, stats); },
+                   {"rsm.depth"}});  // the RSM draw's own depth target
         frame.add({"vpl", {"rsm.position", "rsm.normal", "rsm.color"}, {"vpl.position", "vpl.direction", "vpl.color"},
                    [st](BufferRegistry& reg) { makeVpls(*st, reg); }});
     }
@@ -135,13 +136,20 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
                                         "lightindex.transparent", "tiles.depthRange", "tiles.depthMask",
                                         "heatmap.radar",     "lightlist.counters"};
     if (st->options.halfZ) cullWrites.emplace_back("lightgrid.opaque.far");
-    frame.add({"light-culling", {"depth"}, cullWrites, [st, device](BufferRegistry& reg) { cullAll(*st, *device, reg); }});
+    // The culling's per-tile results that no later pass reads: depth bounds, 2.5D masks, the radar
+    // heat map and the list counters.
+    // The VPLs join the light arrays that the culling takes (the vpl.* buffers hold the same lights).
+    std::vector<std::string> cullReads{"depth"};
+    if (st->indirectActive) cullReads.insert(cullReads.end(), {"vpl.position", "vpl.direction", "vpl.color"});
+    frame.add({"light-culling", cullReads, cullWrites, [st, device](BufferRegistry& reg) { cullAll(*st, *device, reg); },
+               {"tiles.depthRange", "tiles.depthMask", "heatmap.radar", "lightlist.counters"}});
     if (st->shadowsActive) {
         frame.add({"shadow-jobs", {"depth", "gbuffer.normal", "lightgrid.opaque", "lightindex.opaque"}, {"shadow.jobs"},
                    [st, device](BufferRegistry& reg) { createJobsPass(*st, *device, reg); }});
         frame.add({"shadow-rays", {"shadow.jobs", "depth", "gbuffer.normal", "lightgrid.opaque", "lightindex.opaque"},
                    {"shadow.mask", "shadow.counters"},
-                   [st, device, res](BufferRegistry& reg) { castRaysPass(*st, *device, *res, reg); }});
+                   [st, device, res](BufferRegistry& reg) { castRaysPass(*st, *device, *res, reg); },
+                   {"shadow.counters"}});  // --stats prints them
     }
     const auto drawPass = [st, device, stats, variantCounts, res](bool transparentPass) {
         return [st, device, stats, variantCounts, res, transparentPass](BufferRegistry& reg) {
@@ -165,8 +173,11 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
     const std::vector<std::string> colors = withColors({back});
     std::vector<std::string> opaqueReads = withColors({back, "depth", "lightgrid.opaque", "lightindex.opaque"});
     if (st->shadowsActive) opaqueReads.emplace_back("shadow.mask");
+    if (st->options.halfZ) opaqueReads.emplace_back("lightgrid.opaque.far");  // Half-Z shades from both lists
     frame.add({"opaque", opaqueReads, withColors({back, "depth"}), drawPass(false)});
-    if (st->indirectActive)  // the VPLs' contribution alone, DiffuseTex * their diffuse light (float)
+    // The VPLs' contribution alone, DiffuseTex * their diffuse light (float), drawn again beside the
+    // image (which holds it summed with the direct light) to be looked at: an inspection pass.
+    if (st->indirectActive)
         frame.add({"indirect", {"depth", "lightgrid.opaque", "lightindex.opaque"}, {"indirect"},
                    [st, device, stats, res](BufferRegistry& reg) {
                        RenderTargets rt;
@@ -175,7 +186,8 @@ Frame buildForwardPlusAmd(const TechniqueContext& ctx) {
                        rt.colors[0]->clearColor(glm::vec4(0.0f));
                        rt.depthStencil = &reg.get("depth");
                        drawAmdPass(*st, *device, *res, rt, false, stats, true);
-                   }});
+                   },
+                   {"indirect"}});
     frame.add({"transparent", withColors({back, "depth", "lightgrid.transparent", "lightindex.transparent"}), colors,
                drawPass(true)});
     if (ctx.sampleCount > 1) frame.add(resolveBackBufferPass(ctx.sampleCount, ctx.precision));

@@ -194,7 +194,8 @@ inline Pass edgePass(Device* device, DrawStats* stats, EdgeDetector detector) {
                 s.edgeTestedPixels = std::uint64_t(w) * h;
                 s.edgePixels = s.samplesPassed / n;
                 if (stats) *stats += s;
-            }};
+            },
+            {edges}};  // the light passes read the stencil's edge bit; this picture of it is for inspection
 }
 
 } // namespace tessera::gbuffer_detail

@@ -690,18 +690,21 @@ Frame buildTiledDeferred(const TechniqueContext& ctx) {
     std::vector<std::string> tileReads = gbufferTargets;
     tileReads.emplace_back("depth");
     std::vector<std::string> tileWrites{"heatmap", "tiles.grid", "tiles.lightCount", "tiles.lightIndices", "tiles.depthRange"};
+    std::vector<std::string> inspection = tileWrites;  // the tiles' lists, bounds and heat map: no later pass reads them
     tileWrites.push_back(opt.shading == Shading::Intel ? std::string("lit") : back);
     if (ctx.precision == Precision::Reference) tileWrites.push_back(backReference);
     if (msaa) {
         tileReads.emplace_back(gbuffer_detail::kEdgeSurfaceTarget);
         tileReads.emplace_back(gbuffer_detail::kEdgeCoverageTarget);
         tileWrites.emplace_back(gbuffer_detail::kEdgesBuffer);
+        inspection.emplace_back(gbuffer_detail::kEdgesBuffer);  // the edge pixels the tiles shaded per sample
     }
     frame.add({"tiles", tileReads, tileWrites, [setup, device, stats, back, backReference](BufferRegistry& reg) {
                    TiledSetup& s = *setup;
                    runTiles(s, device, stats, back, backReference, reg);
                    writeTileBuffers(s, reg);
-               }});
+               },
+               inspection});
 
     if (opt.shading == Shading::Intel) {
         // SkyboxToneMapPS with MSAA_SAMPLES 1: the sky where depth is the cleared value (tessera: the

@@ -412,6 +412,35 @@ TEST_CASE("cli: --draw-by-draw writes the same bytes as binned passes, and --sta
     REQUIRE(r.exitCode == 0);
     CHECK(r.output.find("binned   0 draws in 0 runs") != std::string::npos);
     CHECK(run("diff --json " + binned.string() + " " + byDraw.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+    // One thread draws draw by draw unless --binned asks for the shared lists; the bytes stay.
+    const auto oneThread = scratch("one-thread.png"), oneBinned = scratch("one-thread-binned.png");
+    r = run("render default --technique forward-plus --width 160 --height 90 --threads 1 --stats --quiet --out " + oneThread.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("binned   0 draws in 0 runs") != std::string::npos);
+    r = run("render default --technique forward-plus --width 160 --height 90 --threads 1 --binned --stats --quiet --out " +
+            oneBinned.string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("binned   0 draws") == std::string::npos);
+    CHECK(run("diff --json " + binned.string() + " " + oneThread.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+    CHECK(run("diff --json " + binned.string() + " " + oneBinned.string()).output.find("\"differing_pixels\":0,") != std::string::npos);
+    // Without --dump or --probe, forward-plus skips its heatmap pass (inspection only): same bytes.
+    CHECK(r.output.find("pass heatmap") == std::string::npos);
+    CHECK(r.output.find("skipped inspection-only passes: heatmap") != std::string::npos);
+    CHECK(r.output.find("buffers  ") != std::string::npos);
+    const auto dumped = scratch("dumped");
+    r = run("render default --technique forward-plus --width 160 --height 90 --threads 2 --stats --quiet --dump " + dumped.string() +
+            " --out " + scratch("dumped.png").string());
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    CHECK(r.output.find("pass heatmap") != std::string::npos);
+    CHECK(r.output.find("1 for inspection") != std::string::npos);
+    CHECK(run("diff --json " + binned.string() + " " + scratch("dumped.png").string()).output.find("\"differing_pixels\":0,") !=
+          std::string::npos);
+    r = run("render builtin --binned --draw-by-draw");
+    CHECK(r.exitCode == 2);
+    CHECK(r.output.find("--draw-by-draw and --binned: choose one") != std::string::npos);
 }
 
 TEST_CASE("cli: --scalar-raster writes the same bytes as the SIMD blocks, --stats counts the blocks, --no-output writes nothing") {

@@ -4,8 +4,12 @@
 // by both the catalogue and the technique, naming /options/KEY.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <array>
 #include <limits>
+#include <map>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -195,6 +199,120 @@ TEST_CASE("technique registry: every pass of every option value, sample count an
         CAPTURE(pass);
         CHECK(seen.count(pass) == 1);
     }
+}
+
+// The buffer audit (frame/frame.h auditBuffers) of every frame a technique can build: for the
+// default options, each listed value of each option, 1 and 4 samples, and every precision, a
+// 16x16 frame of catalogueScene() registers only buffers that a later pass reads, the image, or
+// buffers its writer declares for inspection (none of which a later pass reads); a single-sample
+// frame holds no multisampled buffer; skipping the inspection-only passes changes no other buffer;
+// and fast changes no buffer, reference only widens formats or adds buffers that a later pass
+// reads. Frame::run itself refuses an undeclared buffer.
+TEST_CASE("technique registry: every buffer of every option value, sample count and precision is read later, the image, or for inspection") {
+    const std::array<std::string_view, 2> images{kBackBufferName, kReferenceBufferName};
+    std::size_t framesRun = 0, inspectionSeen = 0, widenedAtReference = 0, skippedPasses = 0;
+    for (const TechniqueInfo& t : techniques()) {
+        if (!t.build) continue;
+        std::vector<nlohmann::json> optionSets{nlohmann::json::object()};
+        for (const OptionInfo& o : t.options)
+            for (const nlohmann::json& value : listedValues(o)) optionSets.push_back({{std::string(o.key), value}});
+        for (const nlohmann::json& options : optionSets)
+            for (const std::uint32_t samples : {1u, 4u}) {
+                if (samples > 1 && !t.msaa) continue;
+                std::map<std::string, SurfaceDesc> exactBuffers;
+                for (const Precision precision : {Precision::Exact, Precision::Fast, Precision::Reference}) {
+                    CAPTURE(t.id);
+                    CAPTURE(options.dump());
+                    CAPTURE(samples);
+                    CAPTURE(precisionName(precision));
+                    Device device(DeviceConfig{64, 1});
+                    TechniqueContext ctx = catalogueContext(device, options);
+                    ctx.sampleCount = samples;
+                    ctx.precision = precision;
+                    Frame frame;
+                    BufferRegistry registry;
+                    try {
+                        frame = buildTechnique(t.id, ctx, ctx.sceneFile);
+                        frame.run(registry);
+                    } catch (const InputError&) {
+                        continue;  // a refused combination (e.g. an option that needs one sample)
+                    }
+                    ++framesRun;
+                    std::map<std::string, SurfaceDesc> buffers;
+                    for (const BufferUse& u : auditBuffers(frame, registry, images)) {
+                        CAPTURE(u.name);
+                        CHECK(u.role != BufferUse::Role::Unread);
+                        inspectionSeen += u.role == BufferUse::Role::Inspection;
+                        buffers[u.name] = registry.get(u.name).desc();
+                        if (samples == 1) CHECK(buffers[u.name].sampleCount == 1);
+                    }
+                    for (const Pass& pass : frame.passes())
+                        for (const std::string& name : pass.inspection) {
+                            CAPTURE(name);
+                            CHECK(std::find_if(frame.passes().begin(), frame.passes().end(), [&](const Pass& later) {
+                                      return &later > &pass && std::find(later.reads.begin(), later.reads.end(), name) != later.reads.end();
+                                  }) == frame.passes().end());
+                        }
+                    if (precision == Precision::Exact) {
+                        exactBuffers = buffers;
+                        // Without inspection the inspection-only passes are skipped: their buffers
+                        // are missing and every other buffer holds the same bytes (such a pass has
+                        // no other effect, as Pass::inspectionOnly promises).
+                        Device lean(DeviceConfig{64, 1});
+                        TechniqueContext leanCtx = catalogueContext(lean, options);
+                        leanCtx.sampleCount = samples;
+                        leanCtx.precision = precision;
+                        const Frame leanFrame = buildTechnique(t.id, leanCtx, leanCtx.sceneFile);
+                        BufferRegistry leanRegistry;
+                        leanFrame.run(leanRegistry, {}, false);
+                        for (const Pass& pass : leanFrame.passes()) {
+                            skippedPasses += pass.inspectionOnly();
+                            if (pass.inspectionOnly())
+                                for (const std::string& name : pass.writes) {
+                                    CAPTURE(name);
+                                    CHECK_FALSE(leanRegistry.contains(name));
+                                }
+                        }
+                        for (const std::string& name : leanRegistry.names()) {
+                            CAPTURE(name);
+                            const std::span<const std::byte> all = registry.get(name).bytes(), without = leanRegistry.get(name).bytes();
+                            CHECK(std::equal(all.begin(), all.end(), without.begin(), without.end()));
+                        }
+                        continue;
+                    }
+                    // "name: exact's -> this precision's" for each buffer that differs.
+                    const auto text = [](const SurfaceDesc& d) {
+                        return std::to_string(d.width) + "x" + std::to_string(d.height) + " " + std::string(formatInfo(d.format).name) +
+                               " x" + std::to_string(d.sampleCount);
+                    };
+                    const auto same = [](const SurfaceDesc& a, const SurfaceDesc& b) {
+                        return a.width == b.width && a.height == b.height && a.format == b.format && a.sampleCount == b.sampleCount;
+                    };
+                    std::string changed;
+                    for (const auto& [name, d] : exactBuffers) {
+                        const auto it = buffers.find(name);
+                        if (it == buffers.end()) changed += name + ": " + text(d) + " -> none; ";
+                        else if (precision == Precision::Fast ? !same(it->second, d)
+                                                              : it->second.width != d.width || it->second.height != d.height ||
+                                                                    it->second.sampleCount != d.sampleCount ||
+                                                                    formatInfo(it->second.format).bytesPerTexel < formatInfo(d.format).bytesPerTexel)
+                            changed += name + ": " + text(d) + " -> " + text(it->second) + "; ";
+                        else widenedAtReference += !same(it->second, d);
+                    }
+                    if (precision == Precision::Fast)
+                        for (const auto& [name, d] : buffers)
+                            if (!exactBuffers.contains(name)) changed += name + ": none -> " + text(d) + "; ";
+                    // fast changes arithmetic only; reference may widen a format (float G-buffer and
+                    // depth: the truth without storage rounding) or add a buffer a later pass reads
+                    // (checked above), never narrow or drop one.
+                    CHECK(changed == "");
+                }
+            }
+    }
+    CHECK(framesRun > 300);
+    CHECK(inspectionSeen > 0);
+    CHECK(widenedAtReference > 0);
+    CHECK(skippedPasses > 0);  // forward-plus's heatmap, forward-plus-amd's indirect
 }
 
 // The faithful choices the render note and the report's "why" column name: forward's two erratum
