@@ -1,6 +1,8 @@
-// BufferRegistry: name -> Surface, in registration order.
+// BufferRegistry: name -> Surface, in registration order; storage kept across clear() for reuse.
 #include <tessera/frame/buffer_registry.h>
 
+#include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 #include <tessera/frame/memory_limit.h>
@@ -23,7 +25,18 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
                                ") would take the frame's buffers to " + formatBytes(double(mBytes + bytes)) +
                                ", past the memory limit of " + formatBytes(double(mByteLimit)) +
                                (mLimitHint.empty() ? "" : " (" + mLimitHint + ")"));
-    auto surface = std::make_unique<Surface>(desc);
+    std::unique_ptr<Surface> surface;
+    const auto spare = std::find_if(mSpare.begin(), mSpare.end(), [&](const std::unique_ptr<Surface>& s) {
+        const SurfaceDesc& d = s->desc();
+        return d.width == desc.width && d.height == desc.height && d.format == desc.format && d.sampleCount == desc.sampleCount;
+    });
+    if (spare != mSpare.end()) {
+        surface = std::move(*spare);
+        mSpare.erase(spare);
+        std::memset(surface->bytes().data(), 0, surface->bytes().size());  // as a new Surface starts
+    } else {
+        surface = std::make_unique<Surface>(desc);
+    }
     mBytes += bytes;
     Surface& ref = *surface;
     mBuffers.emplace(name, std::move(surface));
@@ -32,9 +45,17 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
 }
 
 void BufferRegistry::clear() {
+    mSpare.clear();  // kept at the last clear() and not reused by this frame
+    for (auto& [name, surface] : mBuffers) mSpare.push_back(std::move(surface));
     mBuffers.clear();
     mOrder.clear();
     mBytes = 0;
+}
+
+std::uint64_t BufferRegistry::spareBytes() const {
+    std::uint64_t bytes = 0;
+    for (const std::unique_ptr<Surface>& s : mSpare) bytes += s->bytes().size();
+    return bytes;
 }
 
 void BufferRegistry::setByteLimit(std::uint64_t bytes, std::string hint) {

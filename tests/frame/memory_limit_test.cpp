@@ -3,6 +3,8 @@
 // the bytes a real frame holds), so a render can be refused before its frame is built.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <tessera/frame/memory_limit.h>
 #include <tessera/frame/buffer_registry.h>
 
@@ -47,6 +49,31 @@ TEST_CASE("memory: a cleared BufferRegistry holds no buffer and keeps its limit"
                          "buffer 'one more' (1x1, R8G8B8A8_UNORM, 4 B) would take the frame's buffers to 1004 B, past the "
                          "memory limit of 1000 B (--memory-limit)",
                          MemoryLimitError);
+}
+
+TEST_CASE("memory: a cleared BufferRegistry reuses its buffers' storage, zeroed, and keeps at most one frame's spare") {
+    const SurfaceDesc a{10, 10, Format::R8G8B8A8_UNORM, 1}, b{5, 5, Format::R32_FLOAT, 1};  // 400 B, 100 B
+    BufferRegistry registry;
+    Surface& first = registry.create("color", a);
+    std::byte* const storage = first.bytes().data();
+    first.clearColor(glm::vec4(1.0f));
+    registry.create("other", b);
+    registry.clear();
+    CHECK(registry.spareBytes() == 500);
+    CHECK(registry.bytes() == 0);
+    // Frame 2: same desc under another name: the same storage, every byte zero as a new buffer's.
+    Surface& again = registry.create("accumulation", a);
+    CHECK(again.bytes().data() == storage);
+    CHECK(std::all_of(again.bytes().begin(), again.bytes().end(), [](std::byte v) { return v == std::byte{0}; }));
+    CHECK(registry.spareBytes() == 100);
+    CHECK(registry.bytes() == 400);
+    registry.clear();
+    // The 5x5 spare was kept at the first clear and not reused by frame 2: freed now.
+    CHECK(registry.spareBytes() == 400);
+    registry.create("small", {2, 2, Format::R8G8B8A8_UNORM, 1});  // no spare of this desc: fresh
+    CHECK(registry.spareBytes() == 400);
+    registry.clear();
+    CHECK(registry.spareBytes() == 16);
 }
 
 TEST_CASE("memory: the default limit is three quarters of what the process may use") {
