@@ -35,6 +35,9 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
         mSpare.erase(spare);
         std::memset(surface->bytes().data(), 0, surface->bytes().size());  // as a new Surface starts
     } else {
+        // Spares are kept only while they, the live buffers and this one fit under the limit, so
+        // that the process never holds more buffer memory than the limit allows.
+        if (spareBytes() > mByteLimit - mBytes - bytes) mSpare.clear();
         surface = std::make_unique<Surface>(desc);
     }
     mBytes += bytes;

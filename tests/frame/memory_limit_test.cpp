@@ -76,6 +76,23 @@ TEST_CASE("memory: a cleared BufferRegistry reuses its buffers' storage, zeroed,
     CHECK(registry.spareBytes() == 16);
 }
 
+TEST_CASE("memory: a BufferRegistry's spare storage never takes it past its limit") {
+    BufferRegistry registry;
+    registry.setByteLimit(1000, "--memory-limit");
+    registry.create("a", {10, 10, Format::R8G8B8A8_UNORM, 1});  // 400 B
+    registry.clear();
+    CHECK(registry.spareBytes() == 400);
+    registry.create("b", {15, 10, Format::R8G8B8A8_UNORM, 1});  // 600 B: 600 + 400 spare = the limit, kept
+    CHECK(registry.spareBytes() == 400);
+    registry.clear();  // the 400 B spare was not reused: freed; the 600 B kept
+    CHECK(registry.spareBytes() == 600);
+    registry.create("c", {5, 5, Format::R8G8B8A8_UNORM, 1});  // 100 B: 100 + 600 spare fits, kept
+    CHECK(registry.spareBytes() == 600);
+    registry.create("d", {16, 5, Format::R8G8B8A8_UNORM, 1});  // 320 B: 420 live + 600 spare > 1000, spares freed
+    CHECK(registry.spareBytes() == 0);
+    CHECK(registry.bytes() == 420);
+}
+
 TEST_CASE("memory: the default limit is three quarters of what the process may use") {
     const std::uint64_t available = availableMemoryBytes();
     CHECK(available > (std::uint64_t{1} << 28));  // any machine that runs the suite has 256 MiB

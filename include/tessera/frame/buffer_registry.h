@@ -29,7 +29,8 @@ public:
     void setByteLimit(std::uint64_t bytes, std::string hint = {});
     // Drops every buffer (a fresh frame's registry); the byte limit and its hint stay. The dropped
     // buffers' storage is kept for create() to reuse; storage that was kept at the previous clear()
-    // and not reused since is freed, so at most one frame's worth is held beyond the live buffers.
+    // and not reused since is freed, so at most one frame's worth is held beyond the live buffers,
+    // and create() frees every spare before a new buffer would take live + spare past the limit.
     void clear();
     // Bytes of storage kept by clear() and not reused yet (not counted in bytes() or the limit).
     std::uint64_t spareBytes() const;
