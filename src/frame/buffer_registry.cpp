@@ -9,10 +9,17 @@
 
 namespace tessera {
 
+namespace {
+
+bool sameDesc(const SurfaceDesc& a, const SurfaceDesc& b) {
+    return a.width == b.width && a.height == b.height && a.format == b.format && a.sampleCount == b.sampleCount;
+}
+
+} // namespace
+
 Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc) {
     if (Surface* s = find(name)) {
-        const SurfaceDesc& d = s->desc();
-        if (d.width != desc.width || d.height != desc.height || d.format != desc.format || d.sampleCount != desc.sampleCount)
+        if (!sameDesc(s->desc(), desc))
             throw std::invalid_argument("buffer '" + name + "' already exists with a different size, format or sample count");
         return *s;
     }
@@ -26,10 +33,7 @@ Surface& BufferRegistry::create(const std::string& name, const SurfaceDesc& desc
                                ", past the memory limit of " + formatBytes(double(mByteLimit)) +
                                (mLimitHint.empty() ? "" : " (" + mLimitHint + ")"));
     std::unique_ptr<Surface> surface;
-    const auto spare = std::find_if(mSpare.begin(), mSpare.end(), [&](const std::unique_ptr<Surface>& s) {
-        const SurfaceDesc& d = s->desc();
-        return d.width == desc.width && d.height == desc.height && d.format == desc.format && d.sampleCount == desc.sampleCount;
-    });
+    const auto spare = std::find_if(mSpare.begin(), mSpare.end(), [&](const std::unique_ptr<Surface>& s) { return sameDesc(s->desc(), desc); });
     if (spare != mSpare.end()) {
         surface = std::move(*spare);
         mSpare.erase(spare);

@@ -7,6 +7,14 @@
 
 namespace tessera {
 
+namespace {
+
+bool lists(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+} // namespace
+
 std::vector<PassTiming> Frame::run(BufferRegistry& registry, const AfterPass& afterPass, bool inspection) const {
     std::vector<PassTiming> timings;
     for (const Pass& pass : mPasses) {
@@ -21,14 +29,11 @@ std::vector<PassTiming> Frame::run(BufferRegistry& registry, const AfterPass& af
         for (const std::string& w : pass.writes)
             if (!registry.contains(w))
                 throw std::logic_error("pass '" + pass.name + "' declares buffer '" + w + "' but did not register it");
-        const auto declares = [](const std::vector<std::string>& list, const std::string& name) {
-            return std::find(list.begin(), list.end(), name) != list.end();
-        };
         for (std::size_t i = registeredBefore; i < registry.names().size(); ++i)
-            if (!declares(pass.writes, registry.names()[i]))
+            if (!lists(pass.writes, registry.names()[i]))
                 throw std::logic_error("pass '" + pass.name + "' registered buffer '" + registry.names()[i] + "' that it does not declare");
         for (const std::string& v : pass.inspection)
-            if (!declares(pass.writes, v))
+            if (!lists(pass.writes, v))
                 throw std::logic_error("pass '" + pass.name + "' declares inspection buffer '" + v + "' that it does not write");
         timings.push_back({pass.name, std::chrono::duration<double, std::milli>(stop - start).count()});
         if (afterPass) afterPass(pass, registry);
@@ -39,9 +44,6 @@ std::vector<PassTiming> Frame::run(BufferRegistry& registry, const AfterPass& af
 std::vector<BufferUse> auditBuffers(const Frame& frame, const BufferRegistry& registry, std::span<const std::string_view> images,
                                     bool inspection) {
     const std::vector<Pass>& passes = frame.passes();
-    const auto has = [](const std::vector<std::string>& list, const std::string& name) {
-        return std::find(list.begin(), list.end(), name) != list.end();
-    };
     std::vector<BufferUse> uses;
     for (const std::string& name : registry.names()) {
         BufferUse use;
@@ -51,11 +53,11 @@ std::vector<BufferUse> auditBuffers(const Frame& frame, const BufferRegistry& re
         bool written = false, forInspection = false;
         for (const Pass& pass : passes) {
             if (!inspection && pass.inspectionOnly()) continue;
-            if (written && has(pass.reads, name) && !has(use.readBy, pass.name)) use.readBy.push_back(pass.name);
-            if (has(pass.writes, name)) {
+            if (written && lists(pass.reads, name) && !lists(use.readBy, pass.name)) use.readBy.push_back(pass.name);
+            if (lists(pass.writes, name)) {
                 if (!written) use.firstWriter = pass.name;
                 written = true;
-                forInspection = has(pass.inspection, name);  // the last writer's word
+                forInspection = lists(pass.inspection, name);  // the last writer's word
             }
         }
         use.role = !use.readBy.empty()   ? BufferUse::Role::Read

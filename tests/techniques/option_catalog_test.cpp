@@ -86,6 +86,23 @@ std::vector<nlohmann::json> listedValues(const OptionInfo& o) {
     return values;
 }
 
+// The default options, then each listed value of each option alone: the option sets the registry
+// tests build frames for.
+std::vector<nlohmann::json> optionSets(const TechniqueInfo& t) {
+    std::vector<nlohmann::json> sets{nlohmann::json::object()};
+    for (const OptionInfo& o : t.options)
+        for (const nlohmann::json& value : listedValues(o)) sets.push_back({{std::string(o.key), value}});
+    return sets;
+}
+
+// catalogueContext with a sample count and precision.
+TechniqueContext frameContext(Device& device, const nlohmann::json& options, std::uint32_t samples, Precision precision) {
+    TechniqueContext ctx = catalogueContext(device, options);
+    ctx.sampleCount = samples;
+    ctx.precision = precision;
+    return ctx;
+}
+
 } // namespace
 
 TEST_CASE("option catalogue: every implemented technique's keys, values, defaults and corrections build") {
@@ -162,17 +179,12 @@ TEST_CASE("technique registry: every pass of every option value, sample count an
     std::set<std::string> seen;  // "technique/pass"
     for (const TechniqueInfo& t : techniques()) {
         if (!t.build) continue;
-        std::vector<nlohmann::json> optionSets{nlohmann::json::object()};
-        for (const OptionInfo& o : t.options)
-            for (const nlohmann::json& value : listedValues(o)) optionSets.push_back({{std::string(o.key), value}});
-        for (const nlohmann::json& options : optionSets)
+        for (const nlohmann::json& options : optionSets(t))
             for (const std::uint32_t samples : {1u, 4u})
                 for (const Precision precision : {Precision::Exact, Precision::Reference}) {
                     if (samples > 1 && !t.msaa) continue;
                     Device device(DeviceConfig{64, 1});
-                    TechniqueContext ctx = catalogueContext(device, options);
-                    ctx.sampleCount = samples;
-                    ctx.precision = precision;
+                    const TechniqueContext ctx = frameContext(device, options, samples, precision);
                     Frame frame;
                     try {
                         frame = buildTechnique(t.id, ctx, ctx.sceneFile);
@@ -213,10 +225,7 @@ TEST_CASE("technique registry: every buffer of every option value, sample count 
     std::size_t framesRun = 0, inspectionSeen = 0, widenedAtReference = 0, skippedPasses = 0;
     for (const TechniqueInfo& t : techniques()) {
         if (!t.build) continue;
-        std::vector<nlohmann::json> optionSets{nlohmann::json::object()};
-        for (const OptionInfo& o : t.options)
-            for (const nlohmann::json& value : listedValues(o)) optionSets.push_back({{std::string(o.key), value}});
-        for (const nlohmann::json& options : optionSets)
+        for (const nlohmann::json& options : optionSets(t))
             for (const std::uint32_t samples : {1u, 4u}) {
                 if (samples > 1 && !t.msaa) continue;
                 std::map<std::string, SurfaceDesc> exactBuffers;
@@ -226,9 +235,7 @@ TEST_CASE("technique registry: every buffer of every option value, sample count 
                     CAPTURE(samples);
                     CAPTURE(precisionName(precision));
                     Device device(DeviceConfig{64, 1});
-                    TechniqueContext ctx = catalogueContext(device, options);
-                    ctx.sampleCount = samples;
-                    ctx.precision = precision;
+                    const TechniqueContext ctx = frameContext(device, options, samples, precision);
                     Frame frame;
                     BufferRegistry registry;
                     try {
@@ -259,9 +266,7 @@ TEST_CASE("technique registry: every buffer of every option value, sample count 
                         // are missing and every other buffer holds the same bytes (such a pass has
                         // no other effect, as Pass::inspectionOnly promises).
                         Device lean(DeviceConfig{64, 1});
-                        TechniqueContext leanCtx = catalogueContext(lean, options);
-                        leanCtx.sampleCount = samples;
-                        leanCtx.precision = precision;
+                        const TechniqueContext leanCtx = frameContext(lean, options, samples, precision);
                         const Frame leanFrame = buildTechnique(t.id, leanCtx, leanCtx.sceneFile);
                         BufferRegistry leanRegistry;
                         leanFrame.run(leanRegistry, {}, false);
