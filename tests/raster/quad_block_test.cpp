@@ -410,4 +410,39 @@ TEST_CASE("draws with SIMD blocks give the same bytes as the scalar path: format
     }
 }
 
+TEST_CASE("small triangles stay on the per-quad path at every pixel and quad alignment; large ones take SIMD blocks") {
+    // A right triangle with legs of `legPx` px placed at every offset of 0..1.75 px in x and y (so
+    // its rectangle starts on even and odd columns and rows). A 3 px triangle's pixel rectangle is
+    // at most 6x6 = 36 px (set-up bounds reach 7/16 px past the centres it can cover), below
+    // kSimdBlockMinPixels (40): no SIMD block may be taken. A 16 px triangle's rectangle holds the
+    // whole 8x8 block [24, 32)^2, whose corner pixel (24, 24) it covers: a SIMD block each time.
+    constexpr std::uint32_t kW = 64, kH = 64;
+    for (const float legPx : {3.0f, 16.0f}) {
+        std::uint64_t simdBlocks = 0;
+        for (int oy = 0; oy < 8; ++oy)
+            for (int ox = 0; ox < 8; ++ox) {
+                Surface color({kW, kH, Format::R8G8B8A8_UNORM, 1});
+                DeviceConfig config{16, 1};
+                Device dev(config);
+                RenderTargets rt;
+                rt.colors[0] = &color;
+                DrawState st;
+                st.viewport = fullViewport(color);
+                st.rasterizer.cullMode = CullMode::None;
+                const auto at = [&](float xPx, float yPx) {  // window px -> clip space, w = 1
+                    return glm::vec4(2.0f * xPx / float(kW) - 1.0f, 1.0f - 2.0f * yPx / float(kH), 0.5f, 1.0f);
+                };
+                const float x0 = 20.0f + 0.25f * float(ox), y0 = 20.0f + 0.25f * float(oy);
+                const std::vector<ColorVertex> verts = {{at(x0, y0), glm::vec4(1.0f)},
+                                                        {at(x0 + legPx, y0), glm::vec4(1.0f)},
+                                                        {at(x0, y0 + legPx), glm::vec4(1.0f)}};
+                const DrawStats stats = dev.draw(st, rt, std::span<const ColorVertex>(verts), {}, PassThroughVS{}, ColorPS{});
+                simdBlocks += stats.simdBlocks;
+            }
+        INFO("legs " << legPx << " px");
+        if (legPx < 4.0f) CHECK(simdBlocks == 0);
+        else CHECK(simdBlocks >= 64);
+    }
+}
+
 } // namespace tessera_test::raster_quad_block_test

@@ -534,7 +534,11 @@ private:
         const TriangleEdges& e = mEdges;
         const bool blockWatched = mWatchHere && std::int32_t(dc.watch->x) >= bx && std::int32_t(dc.watch->x) < xEnd &&
                                   std::int32_t(dc.watch->y) >= by && std::int32_t(dc.watch->y) < yEnd;
-        if (!(dc.simdBlocks && !blockWatched && (xEnd - bx) * (yEnd - by) >= kSimdBlockMinPixels)) return false;
+        // Pixels of r in the block, counted from r's own corner: the walk starts on the quad-aligned
+        // column and row (qx0, qy0), which would add a column and a row of pixels outside r and let a
+        // 3 px triangle's 6x6 rectangle count as 7x7 = 49.
+        const std::int32_t inX = xEnd - std::max(bx, mRect.minX), inY = yEnd - std::max(by, mRect.minY);
+        if (!(dc.simdBlocks && !blockWatched && inX * inY >= kSimdBlockMinPixels)) return false;
         const QuadBlock::Edges edges{{eQuadRow[0], eQuadRow[1], eQuadRow[2]},
                                      {e.stepX[0], e.stepX[1], e.stepX[2]},
                                      {e.stepY[0], e.stepY[1], e.stepY[2]}};
