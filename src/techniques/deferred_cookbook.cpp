@@ -12,6 +12,7 @@
 #include <tessera/buffers/target_reader.h>
 #include <tessera/gbuffer/cookbook_gbuffer.h>
 #include <tessera/math/det_math.h>
+#include <tessera/raster/draw_batch.h>
 #include <tessera/shading/cookbook_lighting.h>
 #include <tessera/shading/phong_surface.h>
 #include <tessera/techniques/cookbook_volumes.h>
@@ -393,6 +394,13 @@ void runLights(const CookbookSetup& setup, Device& device, BufferRegistry& reg, 
     const ForwardPassSetup& fwd = *setup.forward;
     const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
     Surface& depth = reg.get("depth");
+    // Every light binned together (raster/draw_batch.h): additive draws that read the G-buffer and
+    // the depth-stencil (bound read-only) and write only `target`, in light order in each tile.
+    DrawBatch batch(device);
+    const auto runBatch = [&] {
+        const DrawStats s = batch.run();
+        if (stats) *stats += s;
+    };
     for (std::size_t k = 0; k < setup.draws.size(); ++k) {
         const LightDraw& d = setup.draws[k];
         const PassState pass = d.quad ? quadState(setup.options, k == 0) : volumeState(setup.options);
@@ -407,14 +415,16 @@ void runLights(const CookbookSetup& setup, Device& device, BufferRegistry& reg, 
         const auto drawWith = [&](const PassState& p, const auto& shader) {
             DrawState state = makeDrawState(p, viewport);
             state.precision = fwd.precision;
-            DrawStats s = device.draw(state, rt, std::span<const LocalVertex>(d.vertices), d.indices, vs, shader);
-            if (stats) *stats += s;
+            batch.draw(state, rt, std::span<const LocalVertex>(d.vertices), d.indices, vs, shader);
         };
         gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, pass, ps, drawWith);
         if (variantCounts) ++(*variantCounts)[std::string("cookbook-light:") + typeName(d.light.type) + (d.quad ? "(quad)" : "")];
-        if (setup.afterLightStep && d.light.index != kAmbientLightTerm)
+        if (setup.afterLightStep && d.light.index != kAmbientLightTerm) {
+            runBatch();  // the step's buffers as they stand after it
             setup.afterLightStep(d.light.index, "shade", reg);
+        }
     }
+    runBatch();
 }
 
 } // namespace

@@ -3,6 +3,8 @@
 // turns it into N x N virtual point lights appended to the light table.
 #include "forward_plus_amd_detail.h"
 
+#include <tessera/raster/draw_batch.h>
+
 namespace tessera::forward_plus_amd_detail {
 namespace {
 
@@ -38,6 +40,7 @@ void drawRsm(const AmdState& st, Device& device, const SceneResources& res, Buff
     rt.depthStencil = &reg.create("rsm.depth", {size, size, Format::D32_FLOAT, 1});
     rt.depthStencil->clearDepthStencil(true, 1.0f, false, 0);
     const glm::vec3 lightColor = st.indirectLight.color * st.indirectLight.intensity;
+    DrawBatch batch(device);  // every opaque item binned together (raster/draw_batch.h)
     for (const DrawItem& item : res.drawItems()) {
         const PhongMaterial material = phongFromGltf(res.material(item.material));
         if (material.isTransparent()) continue;
@@ -47,10 +50,11 @@ void drawRsm(const AmdState& st, Device& device, const SceneResources& res, Buff
         ds.rasterizer.cullMode = material.doubleSided ? CullMode::None : CullMode::Back;
         const PhongVS vs{st.rsm.clipFromWorld * item.worldFromObject, item.worldFromObject};
         const PrimitiveBuffer& prim = res.primitives()[item.primitive];
-        const PhongShaderData<float> data = makePhongShaderData<float>(material, *st.setup->textures, {});
-        const DrawStats s = device.draw(ds, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, RsmPS{&data, lightColor});
-        if (stats) *stats += s;
+        const PhongShaderData<float>& data = batch.keep(makePhongShaderData<float>(material, *st.setup->textures, {}));
+        batch.draw(ds, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, RsmPS{&data, lightColor});
     }
+    const DrawStats s = batch.run();
+    if (stats) *stats += s;
 }
 
 // The "vpl" pass (§5.1 step 2): N x N VPLs from the RSM, appended after the scene's lights to the

@@ -190,7 +190,9 @@ inline Pass edgePass(Device* device, DrawStats* stats, EdgeDetector detector) {
                 std::array<QuadVertex, 4> quad;
                 for (std::size_t i = 0; i < 4; ++i) quad[i].posClip = kQuadClip[i];
                 const EdgeMarkPS ps{TargetReader(reg.get(surface)), TargetReader(reg.get(coverage)), n, detector};
-                DrawStats s = device->draw(st, rt, std::span<const QuadVertex>(quad), kQuadIndices, QuadVS{}, ps);
+                DrawBatch batch(*device);  // one draw, swept tile by tile like every other pass's
+                batch.draw(st, rt, std::span<const QuadVertex>(quad), kQuadIndices, QuadVS{}, ps);
+                DrawStats s = batch.run();
                 s.edgeTestedPixels = std::uint64_t(w) * h;
                 s.edgePixels = s.samplesPassed / n;
                 if (stats) *stats += s;

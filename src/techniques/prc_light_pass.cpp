@@ -10,6 +10,7 @@
 
 #include <tessera/errors/input_error.h>
 #include <tessera/math/det_math.h>
+#include <tessera/raster/draw_batch.h>
 #include <tessera/techniques/light_volumes.h>
 
 #include "gbuffer_pass.h"
@@ -178,6 +179,13 @@ void runLights(const Setup& setup, Device& device, BufferRegistry& reg, Surface&
     const Viewport viewport{0.0f, 0.0f, float(fwd.width), float(fwd.height), 0.0f, 1.0f};
     Surface& depth = reg.get("depth");
     const bool msaa = fwd.sampleCount > 1;
+    // Every light binned together (raster/draw_batch.h): additive draws that read the G-buffer and
+    // the stencil and write only `target`, in light order in each tile's list.
+    DrawBatch batch(device);
+    const auto runBatch = [&] {
+        const DrawStats s = batch.run();
+        if (stats) *stats += s;
+    };
     for (const LightDraw& d : setup.draws) {
         RenderTargets rt;
         rt.colors[0] = &target;
@@ -194,14 +202,17 @@ void runLights(const Setup& setup, Device& device, BufferRegistry& reg, Surface&
                 st.rasterizer.scissorEnable = true;
                 st.scissor = d.rect;
             }
-            DrawStats s = device.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, shader);
-            if (stats) *stats += s;
+            batch.draw(st, rt, std::span<const LocalVertex>(d.vertices), d.indices, ClassicVS{d.clipFromLocal}, shader);
         };
         // §11.5: one sample where the samples agree, every sample at edge pixels.
         gbuffer_detail::drawPerPixelThenEdgeSamples(msaa, d.pass, ps, drawWith);
         if (variantCounts) ++(*variantCounts)["classic-light"];
-        if (setup.afterLightStep) setup.afterLightStep(d.index, "shade", reg);
+        if (setup.afterLightStep) {
+            runBatch();  // the step's buffers as they stand after it
+            setup.afterLightStep(d.index, "shade", reg);
+        }
     }
+    runBatch();
 }
 
 } // namespace

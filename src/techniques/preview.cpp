@@ -4,6 +4,7 @@
 #include <tessera/techniques/preview.h>
 
 #include <tessera/buffers/conversion.h>
+#include <tessera/raster/draw_batch.h>
 
 #include <cmath>
 
@@ -135,6 +136,7 @@ Frame buildPreview(const TechniqueContext& ctx) {
             rt.colors[0] = &reg.get(back);
             if (reference) rt.colors[1] = &reg.get(backReference);
             rt.depthStencil = &reg.get("depth");
+            DrawBatch batch(device);  // the pass's draws binned together (raster/draw_batch.h)
             for (const DrawItem& item : res.drawItems()) {
                 const Material& m = res.material(item.material);
                 if ((m.alphaMode == AlphaMode::Blend) != blendPass) continue;
@@ -150,8 +152,7 @@ Frame buildPreview(const TechniqueContext& ctx) {
                 }
                 const PreviewVS vs{clipFromWorld * item.worldFromObject, item.worldFromObject, item.normalWorldFromObject};
                 auto draw = [&](const auto& ps) {
-                    DrawStats s = device.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
-                    if (stats) *stats += s;
+                    batch.draw(st, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, ps);
                 };
                 const BoundTexture base = bind(res, m.baseColorTexture, TexelEncoding::Srgb);
                 const BoundTexture glow = bind(res, m.emissiveTexture, TexelEncoding::Srgb);
@@ -165,6 +166,8 @@ Frame buildPreview(const TechniqueContext& ctx) {
                     else draw(PreviewPS<false>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
                 }
             }
+            const DrawStats s = batch.run();
+            if (stats) *stats += s;
         };
     };
     const std::string backName(kBackBufferName);
