@@ -410,7 +410,7 @@ TEST_CASE("draws with SIMD blocks give the same bytes as the scalar path: format
     }
 }
 
-TEST_CASE("small triangles stay on the per-quad path at every pixel and quad alignment; large ones take SIMD blocks") {
+TEST_CASE("small triangles stay on the per-quad path at every pixel and quad alignment, and large ones take SIMD blocks") {
     // A right triangle with legs of `legPx` px placed at every offset of 0..1.75 px in x and y (so
     // its rectangle starts on even and odd columns and rows). A 3 px triangle's pixel rectangle is
     // at most 6x6 = 36 px (set-up bounds reach 7/16 px past the centres it can cover), below
