@@ -470,7 +470,10 @@ private:
         return std::bit_cast<V>(v);
     }
 
-    void prefetch(std::span<const TriangleRef> list, std::size_t k) const {
+    // Always inlined: as an ordinary function GCC 12 finds it free of side effects (its only
+    // statements are __builtin_prefetch, which GCC models as touching no memory), takes it for
+    // pure and deletes the call, so no prefetch was issued at all (1M 3 px triangles: 2x slower).
+    [[gnu::always_inline]] void prefetch(std::span<const TriangleRef> list, std::size_t k) const {
         const std::vector<SetupChunk>& chunks = mChunks;
         if (k + kAheadTri < list.size()) {
             const char* next = reinterpret_cast<const char*>(&triangleOf(list[k + kAheadTri]));
