@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include <tessera/raster/device.h>
+#include <tessera/shaders/block_shader.h>
 
 #if TESSERA_HAVE_GL_PEER
 #include <gl_peer.h>
@@ -40,6 +42,11 @@ struct FlatPS {
     using Varyings = FlatVaryings;
     static constexpr int kTargetCount = 1;
     void operator()(const PixelInput<FlatVaryings>& in, PixelOutput<1>& out) const { out.target[0] = in.varyings.color; }
+    // The same copy over a block's lanes (llvmpipe's JIT shades 4x4 or 8x8 pixels per call too).
+    void shadeBlock(const BlockInput& in, BlockOutput<1>& out) const {
+        for (int c = 0; c < 4; ++c)
+            std::memcpy(out.target[0] + c * kBlockLanes, in.varyings + c * kBlockLanes, kBlockLanes * sizeof(float));
+    }
 };
 
 enum Workload : int { kTiny = 0, kMedium = 1, kFullScreen = 2, kTinyD24 = 3 };

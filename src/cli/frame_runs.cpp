@@ -140,8 +140,10 @@ void printDrawStats(const tessera::DrawStats& s) {
             std::printf("edges    %llu of %llu pixels shaded per sample (%.2f%%)\n", (unsigned long long)s.edgePixels,
                         (unsigned long long)s.edgeTestedPixels, 100.0 * double(s.edgePixels) / double(s.edgeTestedPixels));
     }
-    std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test)\n",
-                (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks);
+    std::printf("simd     %llu blocks of 8x8 px through the %s kernels, %llu of them lean (SIMD depth test), "
+                "%llu shaded by one block-shader call\n",
+                (unsigned long long)s.simdBlocks, tessera::quadBlockTarget(), (unsigned long long)s.leanBlocks,
+                (unsigned long long)s.blockShaderCalls);
     // Draws binned into shared tile lists (raster/draw_batch.h), in how many sweeps of the tiles,
     // and the tiles the batches' recorded clears cleared (the deferred light loop's stencil).
     std::printf("binned   %llu draws in %llu runs of shared tile lists", (unsigned long long)s.binnedDraws,

@@ -28,6 +28,7 @@ DrawStats& DrawStats::operator+=(const DrawStats& o) {
     computeShadedSamples += o.computeShadedSamples;
     samplesPassed += o.samplesPassed;
     simdBlocks += o.simdBlocks;
+    blockShaderCalls += o.blockShaderCalls;
     leanBlocks += o.leanBlocks;
     binnedDraws += o.binnedDraws;
     binnedRuns += o.binnedRuns;

@@ -53,6 +53,9 @@ struct DrawStats {
     // 8x8 blocks rasterized through the SIMD kernels (raster/quad_block.h), and those of them
     // that also ran the lean pipeline (SIMD depth test, no per-pixel stage the state lacks).
     std::uint64_t simdBlocks = 0, leanBlocks = 0;
+    // Lean blocks shaded by one call of the shader's block entry point (shaders/block_shader.h)
+    // instead of one call per pixel.
+    std::uint64_t blockShaderCalls = 0;
     // Draws rasterized through a DrawBatch's shared tile lists (raster/draw_batch.h), and the
     // batch runs that rasterized them: draws / runs is how many draws shared one sweep of the tiles.
     std::uint64_t binnedDraws = 0, binnedRuns = 0;

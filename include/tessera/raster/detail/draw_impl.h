@@ -26,6 +26,7 @@
 #include <tessera/raster/quad_block.h>
 #include <tessera/raster/detail/tile_steps.h>
 #include <tessera/raster/sample_pattern.h>
+#include <tessera/shaders/block_shader.h>
 
 namespace tessera {
 
@@ -265,6 +266,7 @@ inline void depthStencilUpdate(const DepthStencilUnit& ds, bool d24, std::byte* 
 
 struct TileCounters {
     std::uint64_t quads = 0, psInvocations = 0, samplesPassed = 0, simdBlocks = 0, leanBlocks = 0;
+    std::uint64_t blockShaderCalls = 0;
     std::uint64_t clearedTiles = 0;  // the tile's rectangle cleared by a DrawBatch's recorded clears
 };
 
@@ -277,6 +279,7 @@ inline void addTileCounters(DrawStats& stats, const TileCounters& c, bool perSam
     stats.samplesPassed += c.samplesPassed;
     stats.simdBlocks += c.simdBlocks;
     stats.leanBlocks += c.leanBlocks;
+    stats.blockShaderCalls += c.blockShaderCalls;
     stats.batchClearedTiles += c.clearedTiles;
 }
 
@@ -418,6 +421,7 @@ public:
         tileCounters.samplesPassed += mCounters.samplesPassed;
         tileCounters.simdBlocks += mCounters.simdBlocks;
         tileCounters.leanBlocks += mCounters.leanBlocks;
+        tileCounters.blockShaderCalls += mCounters.blockShaderCalls;
     }
 
 private:
@@ -448,6 +452,9 @@ private:
     // shaders that do not write depth, on the D32 / D24 / Off paths (stencil inactive) and when
     // failing samples cannot write (checked per triangle); otherwise the block feeds shadeQuad.
     static constexpr bool kLeanBlock = kSingleSample && !kPerSample && !kWritesDepth && kDepth != DepthKernel::General;
+    // The lean block shades through the shader's block entry point when it has one.
+    static constexpr bool kBlockShader = [] { if constexpr (kHasPs) return BlockPixelShader<PS>; else return false; }();
+    static_assert(kBlockLanes == QuadBlock::kPixels, "block shaders see the SIMD block's lanes");
     // RGBA8 colours of one triangle's block, per target (overwrites, and blends when
     // dc.rgba8Blend): colour c of lane p at rgba[c * 64 + p].
     // Zeroed once, so the encoder never reads indeterminate lanes.
@@ -605,6 +612,10 @@ private:
         };
         if constexpr (!kMayDiscard)
             for (std::uint64_t m = pass; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
+        if constexpr (kBlockShader) {
+            blockShaded(bx, by, xEnd, yEnd, covered, pass, zClamped, writeDepth);
+            return;
+        }
         // The block's counts, kept in registers and added once (a per-pixel
         // add to the tile's counters was a store-to-load chain through memory).
         std::uint64_t quads = 0, shaded = 0, written = 0;
@@ -654,6 +665,56 @@ private:
         mCounters.quads += quads;
         mCounters.psInvocations += shaded;
         mCounters.samplesPassed += written;
+    }
+
+    // The lean block's shading through the shader's block entry point (shaders/block_shader.h):
+    // one call for the passing lanes, colours written straight into the stash's layout. The
+    // counts are the per-lane loop's: every quad with a covered lane, one invocation per passing
+    // lane, one sample per lane not discarded.
+    template <class WriteDepth>
+    void blockShaded(std::int32_t bx, std::int32_t by, std::int32_t xEnd, std::int32_t yEnd, std::uint64_t covered,
+                     std::uint64_t pass, const float* zClamped, WriteDepth& writeDepth) {
+        const DrawContext& dc = mDc;
+        std::uint64_t quads = 0;
+        for (std::int32_t qy = by; qy < yEnd; qy += 2)
+            for (std::int32_t qx = bx; qx < xEnd; qx += 2) {
+                const int lane0 = (qy - by) * kBlock + (qx - bx);
+                const std::uint64_t quadBits = (std::uint64_t(3) << lane0) | (std::uint64_t(3) << (lane0 + kBlock));
+                if (covered & quadBits) ++quads;
+            }
+        mCounters.quads += quads;
+        if (pass == 0) return;
+        ++mCounters.blockShaderCalls;
+        const BlockInput in{bx, by, pass, mBlock.varyings, zClamped, mBlock.posW, mFront};
+        BlockOutput<kTargets> out;
+        for (int rt = 0; rt < kTargets; ++rt) out.target[std::size_t(rt)] = mStash.rgba[rt];
+        mPs.shadeBlock(in, out);
+        mCounters.psInvocations += std::uint64_t(std::popcount(pass));
+        if (dc.shadeCounts) [[unlikely]]
+            for (std::uint64_t m = pass; m != 0; m &= m - 1) {
+                const auto [px, py] = pixelOf(bx, by, std::countr_zero(m));
+                dc.shadeCounts->add(px, py, false);
+            }
+        const std::uint64_t kept = kMayDiscard ? pass & ~out.discarded : pass;
+        if constexpr (kMayDiscard)
+            for (std::uint64_t m = kept; m != 0; m &= m - 1) writeDepth(std::countr_zero(m));
+        mCounters.samplesPassed += std::uint64_t(std::popcount(kept));
+        for (int rt = 0; rt < kTargets; ++rt) {
+            Surface* target = dc.colors[std::size_t(rt)];
+            if (!target) continue;
+            if (dc.rgba8Overwrite[std::size_t(rt)] || dc.rgba8Blend[std::size_t(rt)]) {
+                mStash.pending[rt] |= kept;  // stored with the block (simdBlock)
+                continue;
+            }
+            const float* rgba = mStash.rgba[rt];
+            for (std::uint64_t m = kept; m != 0; m &= m - 1) {
+                const int lane = std::countr_zero(m);
+                const auto [px, py] = pixelOf(bx, by, lane);
+                const glm::vec4 src(rgba[lane], rgba[QuadBlock::kPixels + lane], rgba[2 * QuadBlock::kPixels + lane],
+                                    rgba[3 * QuadBlock::kPixels + lane]);
+                writeColorSample(target->format(), target->texel(px, py), src, dc.blend[std::size_t(rt)], dc.blendFactor);
+            }
+        }
     }
 
     // A SIMD block whose state needs more than the lean pipeline: its quads through shadeQuad,
