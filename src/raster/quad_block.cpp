@@ -105,30 +105,42 @@ void BlockCentres(const SetupTriangle& t, const QuadBlock::Edges& e, const float
     }
 }
 
+// R8G8B8A8_UNORM codes of 64 pixels (SoA floats in, packed RGBA8 out). Exact: round(x * 255)
+// with halves up on the clamped x, as writeColorRgba8Unorm's double arithmetic rounds it, but in
+// 32-bit integer lanes (twice as many per vector as doubles, and no float <-> double conversion).
+// For x in (0, 1], x = m * 2^(e - 150) with m the 24-bit significand and e the biased exponent,
+// so x * 255 = p / 2^s with p = m * 255 < 2^32 and s = 150 - e, exactly. Halves up:
+// code = floor((p + 2^(s-1)) / 2^s) = floor((floor(p / 2) + 2^(s-2)) / 2^(s-1)): halving p first
+// keeps every sum below 2^32, and drops only p's low bit, which cannot change the quotient (a
+// sum on the boundary has p = 2^(s-1) mod 2^s, even for s >= 2). Where e < 118, x < 2^-9 and
+// x * 255 < 0.5: code 0, as for 0, NaN and denormals (their e is 0).
 void BlockEncodeRgba8(const float* HWY_RESTRICT rgba, bool fast, std::uint32_t* HWY_RESTRICT codes) {
-    const hn::CappedTag<double, kSide> dd;
-    const hn::Rebind<float, decltype(dd)> dh;
-    const hn::Rebind<std::int32_t, decltype(dd)> di;
-    const hn::Rebind<std::uint32_t, decltype(dd)> du;
-    const std::size_t n = hn::Lanes(dd);
-    const auto zero = hn::Zero(dh), one = hn::Set(dh, 1.0f);
+    const hn::CappedTag<float, 2 * kSide> df;
+    const hn::RebindToSigned<decltype(df)> di;
+    const hn::RebindToUnsigned<decltype(df)> du;
+    const std::size_t n = hn::Lanes(df);
+    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
     for (std::size_t p = 0; p < std::size_t(QuadBlock::kPixels); p += n) {
         auto packed = hn::Zero(du);
         for (int c = 0; c < 4; ++c) {
-            const auto src = hn::LoadU(dh, rgba + c * QuadBlock::kPixels + p);
+            const auto src = hn::LoadU(df, rgba + c * QuadBlock::kPixels + p);
             // x > 0 ? (x < 1 ? x : 1) : 0, so NaN -> 0 as in the scalar clamp.
             const auto x = hn::IfThenElse(hn::Gt(src, zero), hn::IfThenElse(hn::Lt(src, one), src, one), zero);
-            hn::Vec<decltype(di)> code;
+            hn::Vec<decltype(du)> code;
             if (fast) {
-                code = hn::ConvertTo(di, hn::Add(hn::Mul(x, hn::Set(dh, 255.0f)), hn::Set(dh, 0.5f)));
+                code = hn::BitCast(du, hn::ConvertTo(di, hn::Add(hn::Mul(x, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
             } else {
-                const auto scaled = hn::Mul(hn::PromoteTo(dd, x), hn::Set(dd, 255.0));  // exact: 24 + 8 bits
-                const auto truncated = hn::DemoteTo(di, scaled);                          // 0..255
-                const auto whole = hn::PromoteTo(dd, truncated);
-                const auto roundUp = hn::Ge(hn::Sub(scaled, whole), hn::Set(dd, 0.5));
-                code = hn::DemoteTo(di, hn::Add(whole, hn::IfThenElseZero(roundUp, hn::Set(dd, 1.0))));
+                const auto bits = hn::BitCast(du, x);
+                const auto exponent = hn::BitCast(di, hn::ShiftRight<23>(bits));  // 0..127: x is in [0, 1]
+                const auto significand = hn::Or(hn::And(bits, hn::Set(du, 0x7FFFFFu)), hn::Set(du, 0x800000u));
+                const auto product = hn::Mul(significand, hn::Set(du, 255u));  // p < 2^32
+                const auto inRange = hn::RebindMask(du, hn::Gt(exponent, hn::Set(di, 117)));
+                // s - 1 = 149 - e: 22..31 in range; capped at 31 elsewhere (those lanes are zeroed).
+                const auto shift = hn::BitCast(du, hn::Min(hn::Sub(hn::Set(di, 149), exponent), hn::Set(di, 31)));
+                const auto half = hn::Shl(hn::Set(du, 1u), hn::Sub(shift, hn::Set(du, 1u)));  // 2^(s-2)
+                code = hn::IfThenElseZero(inRange, hn::Shr(hn::Add(hn::ShiftRight<1>(product), half), shift));
             }
-            packed = hn::Or(packed, hn::ShiftLeftSame(hn::BitCast(du, code), 8 * c));
+            packed = hn::Or(packed, hn::ShiftLeftSame(code, 8 * c));
         }
         hn::StoreU(packed, du, codes + p);
     }

@@ -149,6 +149,12 @@ void checkEncode() {
              x = std::nextafter(x, 1.0f))
             values.push_back(x);
     }
+    // The exact encode works on the significand and exponent: every power of two in
+    // [2^-12, 1] and its neighbours (the exponent's boundaries; below 2^-9 the code is 0).
+    for (int e = -12; e <= 0; ++e) {
+        const float power = std::ldexp(1.0f, e);
+        for (const float x : {std::nextafter(power, 0.0f), power, std::nextafter(power, 2.0f)}) values.push_back(x);
+    }
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> u(-0.1f, 1.1f);
     while (values.size() % 256 != 0 || values.size() < 4096) values.push_back(u(rng));
