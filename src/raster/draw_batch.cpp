@@ -143,6 +143,11 @@ void DrawBatch::flush() {
     discard();
 }
 
+void DrawBatch::runInto(DrawStats* stats) {
+    const DrawStats s = run();
+    if (stats) *stats += s;
+}
+
 DrawStats DrawBatch::run() {
     flush();
     mKept.clear();  // after every draw that may point into them has run

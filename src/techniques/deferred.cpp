@@ -364,9 +364,7 @@ void runLights(DeferredSetup& setup, Device& device, BufferRegistry& reg, DrawSt
     if (setup.method == Method::Dgep) batch.emplace(device);
     DrawBatch* const binned = batch ? &*batch : nullptr;
     const auto runBatch = [&] {
-        if (!binned) return;
-        const DrawStats s = binned->run();
-        if (stats) *stats += s;
+        if (binned) binned->runInto(stats);
     };
     StencilClears stencil(depth, msaa ? std::uint8_t(~gbuffer_detail::kEdgeStencilBit) : std::uint8_t(0xFF), binned);
     const auto lowBits = [msaa](PassState p) {

@@ -397,10 +397,7 @@ void runLights(const CookbookSetup& setup, Device& device, BufferRegistry& reg, 
     // Every light binned together (raster/draw_batch.h): additive draws that read the G-buffer and
     // the depth-stencil (bound read-only) and write only `target`, in light order in each tile.
     DrawBatch batch(device);
-    const auto runBatch = [&] {
-        const DrawStats s = batch.run();
-        if (stats) *stats += s;
-    };
+    const auto runBatch = [&] { batch.runInto(stats); };
     for (std::size_t k = 0; k < setup.draws.size(); ++k) {
         const LightDraw& d = setup.draws[k];
         const PassState pass = d.quad ? quadState(setup.options, k == 0) : volumeState(setup.options);

@@ -134,8 +134,7 @@ void drawForwardPass(const ForwardPassSetup& setup, Device& device, const SceneR
         else
             drawItem<float, 1>(batch, st, rt, prim, vs, material, setup, variantCounts, overrides.tileLights);
     }
-    const DrawStats s = batch.run();
-    if (stats) *stats += s;
+    batch.runInto(stats);
 }
 
 Frame buildForward(const TechniqueContext& ctx) {

@@ -53,8 +53,7 @@ void drawRsm(const AmdState& st, Device& device, const SceneResources& res, Buff
         const PhongShaderData<float>& data = batch.keep(makePhongShaderData<float>(material, *st.setup->textures, {}));
         batch.draw(ds, rt, std::span<const SceneVertex>(prim.vertices), prim.indices, vs, RsmPS{&data, lightColor});
     }
-    const DrawStats s = batch.run();
-    if (stats) *stats += s;
+    batch.runInto(stats);
 }
 
 // The "vpl" pass (§5.1 step 2): N x N VPLs from the RSM, appended after the scene's lights to the

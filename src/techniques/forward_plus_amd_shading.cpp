@@ -180,8 +180,7 @@ void drawAmdPass(const AmdState& st, Device& device, const SceneResources& res, 
             else draw(AmdScenePS<false>{&data, shade, false, transparentPass});
         }
     }
-    const DrawStats s = batch.run();
-    if (stats) *stats += s;
+    batch.runInto(stats);
 }
 
 } // namespace tessera::forward_plus_amd_detail

@@ -73,8 +73,7 @@ void drawDepthPrepass(const ForwardPassSetup& setup, Device& device, const Scene
             batch.draw(st, rt, vertices, prim.indices, vs, NoPixelShader{});
         }
     }
-    const DrawStats s = batch.run();
-    if (stats) *stats += s;
+    batch.runInto(stats);
 }
 
 } // namespace

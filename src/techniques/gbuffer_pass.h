@@ -51,8 +51,7 @@ void drawOpaqueGBuffer(const ForwardPassSetup& f, Device& device, const SceneRes
         if (variant.mayDiscard) run(PS<true>{});
         else run(PS<false>{});
     }
-    const DrawStats s = batch.run();
-    if (stats) *stats += s;
+    batch.runInto(stats);
 }
 
 // A full-screen quad in clip space at z = 0, w = 1, as the triangle strip (-1, 1), (1, 1),

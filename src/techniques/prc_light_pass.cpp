@@ -182,10 +182,7 @@ void runLights(const Setup& setup, Device& device, BufferRegistry& reg, Surface&
     // Every light binned together (raster/draw_batch.h): additive draws that read the G-buffer and
     // the stencil and write only `target`, in light order in each tile's list.
     DrawBatch batch(device);
-    const auto runBatch = [&] {
-        const DrawStats s = batch.run();
-        if (stats) *stats += s;
-    };
+    const auto runBatch = [&] { batch.runInto(stats); };
     for (const LightDraw& d : setup.draws) {
         RenderTargets rt;
         rt.colors[0] = &target;

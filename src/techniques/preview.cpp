@@ -166,8 +166,7 @@ Frame buildPreview(const TechniqueContext& ctx) {
                     else draw(PreviewPS<false>{m.baseColorFactor, base, m.emissiveFactor, glow, m.alphaCutoff, opaque, eyeWorld});
                 }
             }
-            const DrawStats s = batch.run();
-            if (stats) *stats += s;
+            batch.runInto(stats);
         };
     };
     const std::string backName(kBackBufferName);

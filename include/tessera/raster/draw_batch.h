@@ -61,6 +61,8 @@ public:
     // Runs the recorded draws; returns the stats of every draw since the last run(), summed
     // (those run at once by draw() included).
     DrawStats run();
+    // run(), with the stats added to *stats when it is not null (a pass's optional --stats sink).
+    void runInto(DrawStats* stats);
 
     std::size_t pending() const { return mDraws.size(); }
 
