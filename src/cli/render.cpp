@@ -27,6 +27,7 @@
 #include "dump_staging.h"
 #include "frame_runs.h"
 #include "memory_check.h"
+#include "output_check.h"
 #include "progress.h"
 #include "render_args.h"
 #include "render_output.h"
@@ -107,26 +108,12 @@ options:
 
 void warn(const std::string& text) { std::fprintf(stderr, "tessera: warning: %s\n", text.c_str()); }
 
-// Output paths checked before anything loads or renders: --out's folder exists and is writable,
-// --dump is a folder (or can become one). A render that would fail at its end fails now.
+// Output paths checked before anything loads or renders (output_check.h): --out's folder takes a
+// new file, --dump is a folder or can become one. A render that would fail at its end fails now.
 void checkOutputPaths(const RenderOptions& o) {
     if (o.noOutput) return;
-    std::error_code ec;
-    const fs::path out(o.out);
-    const fs::path outDir = out.has_parent_path() ? out.parent_path() : fs::path(".");
-    if (!fs::is_directory(outDir, ec)) throw UsageError("--out: '" + o.out + "': the folder '" + outDir.string() + "' does not exist");
-    if (access(outDir.c_str(), W_OK) != 0) throw UsageError("--out: '" + o.out + "': the folder '" + outDir.string() + "' is not writable");
-    if (fs::is_directory(out, ec)) throw UsageError("--out: '" + o.out + "' is a folder");
-    if (!o.dumpDir.empty()) {
-        const fs::path dump(o.dumpDir);
-        if (fs::exists(dump, ec) && !fs::is_directory(dump, ec))
-            throw UsageError("--dump: '" + o.dumpDir + "' exists and is not a folder");
-        fs::path existing = dump;  // the deepest existing ancestor must be writable
-        while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
-        if (existing.empty()) existing = ".";
-        if (access(existing.c_str(), W_OK) != 0)
-            throw UsageError("--dump: '" + o.dumpDir + "': '" + existing.string() + "' is not writable");
-    }
+    requireOutputFile("--out", o.out);
+    if (!o.dumpDir.empty()) requireOutputFolder("--dump", o.dumpDir);
 }
 
 // The back buffer's pixels saturated to white (R = G = B = 255 in an 8-bit back buffer; every

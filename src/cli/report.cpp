@@ -23,6 +23,7 @@
 #include <tessera/techniques/technique.h>
 
 #include "arg_cursor.h"
+#include "output_check.h"
 #include "scene_args.h"
 
 namespace tessera::cli {
@@ -251,8 +252,7 @@ int reportCommand(const std::vector<std::string_view>& args) {
             }
         }
         if (outDir.empty()) throw UsageError("--out DIR is required");
-        std::error_code ec;
-        if (fs::exists(outDir, ec) && !fs::is_directory(outDir, ec)) throw UsageError("--out: '" + outDir + "' is not a folder");
+        requireOutputFolder("--out", outDir);  // before anything loads or renders
     }
 
     const fs::path sceneFile = resolveScene(sceneArg);

@@ -212,6 +212,35 @@ TEST_CASE("cli: --out naming an existing directory is refused before rendering w
     CHECK(partialFiles(dir) == 0);
 }
 
+TEST_CASE("cli: output paths that cannot take a file are refused with exit 2 before the scene loads (render, report)") {
+    // /proc takes no new file even for root, whose access(W_OK) says yes to it. The scene named
+    // does not exist: a message about the path (not the scene) shows the check ran first.
+    const fs::path dir = scratch("refused");
+    fs::create_directories(dir);
+    const fs::path file = dir / "plain.txt";
+    writeText(file, "x");
+    struct Case { std::string args, mentions; };
+    const Case cases[] = {
+        {"render no-such-scene.json --out /proc/x.png", "--out: '/proc/x.png': cannot create a file in '/proc'"},
+        {"render no-such-scene.json --out " + (dir / "missing" / "x.png").string(), "the folder '" + (dir / "missing").string() + "' does not exist"},
+        {"render no-such-scene.json --out " + (dir / "x.png").string() + " --dump /proc/dump", "--dump: '/proc/dump': cannot create anything in '/proc'"},
+        {"render no-such-scene.json --out " + (dir / "x.png").string() + " --dump " + file.string(), "--dump: '" + file.string() + "' exists and is not a folder"},
+        {"report no-such-scene.json --out /proc/rep", "--out: '/proc/rep': cannot create anything in '/proc'"},
+        {"report no-such-scene.json --out /proc/a/b", "--out: '/proc/a/b': cannot create anything in '/proc'"},
+        {"report no-such-scene.json --out " + file.string(), "--out: '" + file.string() + "' exists and is not a folder"},
+    };
+    for (const Case& c : cases) {
+        const Run r = run(c.args);
+        INFO(c.args << " -> " << r.output);
+        CHECK(r.exitCode == 2);
+        CHECK(r.output.find(c.mentions) != std::string::npos);
+        CHECK(r.output.find("no-such-scene") == std::string::npos);
+        CHECK(r.output.find("filesystem error") == std::string::npos);
+    }
+    // Nothing left behind: the probe file the check creates is removed, and nothing was written.
+    CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
+}
+
 TEST_CASE("cli: the same render --dump twice, a second apart, writes byte-identical files (PNG, EXR, TIFF)") {
     const fs::path dir = scratch("reproducible");
     const std::string builtin = "render builtin --quiet --width 48 --height 32 --msaa 4";
