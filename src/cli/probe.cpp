@@ -35,7 +35,7 @@ int probeCommand(const std::vector<std::string_view>& args) {
     std::vector<std::string_view> renderArgs{args[0], "--probe", xy};
     bool writes = false;
     for (std::size_t i = 3; i < args.size(); ++i) {
-        writes = writes || args[i] == "--out" || args[i] == "--dump" || args[i].substr(0, 6) == "--out=" ||
+        writes = writes || args[i] == "--out" || args[i] == "-o" || args[i] == "--dump" || args[i].substr(0, 6) == "--out=" ||
                  args[i].substr(0, 7) == "--dump=";
         renderArgs.push_back(args[i]);
     }

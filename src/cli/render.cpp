@@ -48,7 +48,7 @@ options:
   --option KEY=VALUE  a technique option, over the scene file's (repeatable; VALUE is JSON, or a
                     bare word taken as a string: --option coneTest=corrected --option tileSize=32);
                     checked against the technique before anything loads (see `tessera options`)
-  --out FILE        output image, .png or .exr (default: tessera.png): the back buffer as stored, alpha
+  -o, --out FILE    output image, .png or .exr (default: tessera.png): the back buffer as stored, alpha
                     included (as the goldens and --dump keep it); with --precision reference the double
                     result (PNG: rounded once to 8 bits, EXR: its float values)
   --exr TYPE        EXR pixel type: half or float (default: float)

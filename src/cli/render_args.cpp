@@ -88,7 +88,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         if (a == "--help" || a == "-h") help = true;
         else if (a == "--technique") o.technique = std::string(value());
         else if (a == "--option") o.options.push_back(parseOptionArg(value()));
-        else if (a == "--out") {
+        else if (a == "--out" || a == "-o") {
             o.out = std::string(value());
             o.outGiven = true;
         } else if (a == "--no-output") o.noOutput = true;

@@ -40,7 +40,7 @@ steps (unmark, shade), per-pass times, and every technique's difference from for
 errata that explain it. The page works from disk: no server, no network, no external scripts.
 
 options:
-  --out DIR      the report's folder (created; its files are overwritten)
+  -o, --out DIR  the report's folder (created; its files are overwritten)
   --width W      width in px (default 480)
   --height H     height in px (default 270)
   --light I      the light whose deferred steps are shown (default: the first point or spot light)
@@ -239,7 +239,7 @@ int reportCommand(const std::vector<std::string_view>& args) {
                 std::fputs(kReportUsage, stdout);
                 return 0;
             }
-            if (a == "--out") outDir = std::string(value());
+            if (a == "--out" || a == "-o") outDir = std::string(value());
             else if (a == "--width") width = parseUint(a, value(), 8, 4096);
             else if (a == "--height") height = parseUint(a, value(), 8, 4096);
             else if (a == "--light") chosenLight = parseUint(a, value(), 0, 1000000);
