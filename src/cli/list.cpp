@@ -1,5 +1,5 @@
 // `tessera list`: the techniques (id, MSAA, summary, source) and the bundled scenes (each scene
-// file's first sentence of "description").
+// file's size, technique and lights, then the first sentence of its "description").
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -27,9 +27,43 @@ Lists the techniques (with their source and whether they are implemented) and th
 scenes (scene files in the scenes folder; TESSERA_SCENES overrides where that is).
 )";
 
+// The description's first sentence: it ends at ". " before a capital letter, so that "GPU Pro 4
+// ch. 5's" or "e.g. the" do not end it. Cut at a word after kMaxSummaryChars.
+constexpr std::size_t kMaxSummaryChars = 160;  // characters of a scene's line in the listing
 std::string firstSentence(const std::string& text) {
-    const std::size_t end = text.find(". ");
-    return end == std::string::npos ? text : text.substr(0, end + 1);
+    std::string sentence = text;
+    for (std::size_t at = text.find(". "); at != std::string::npos; at = text.find(". ", at + 1)) {
+        const std::size_t next = at + 2;
+        if (next < text.size() && text[next] >= 'A' && text[next] <= 'Z') {
+            sentence = text.substr(0, at + 1);
+            break;
+        }
+    }
+    if (sentence.size() <= kMaxSummaryChars) return sentence;
+    const std::size_t space = sentence.rfind(' ', kMaxSummaryChars);
+    return sentence.substr(0, space == std::string::npos ? kMaxSummaryChars : space) + " ...";
+}
+
+// What sets a scene file apart at a glance: its size, technique and lights (explicit ones, and
+// each generator's count and range), from the file's own keys.
+std::string sceneFacts(const nlohmann::json& j) {
+    std::string facts;
+    const auto add = [&facts](const std::string& part) { facts += (facts.empty() ? "" : ", ") + part; };
+    const auto number = [](const nlohmann::json& v) { return v.dump(); };  // as written in the file
+    if (j.contains("resolution") && j["resolution"].is_array() && j["resolution"].size() == 2)
+        add(number(j["resolution"][0]) + "x" + number(j["resolution"][1]));
+    if (j.contains("technique") && j["technique"].is_string()) add(j["technique"].get<std::string>());
+    if (j.contains("lights") && j["lights"].is_array())
+        add(std::to_string(j["lights"].size()) + (j["lights"].size() == 1 ? " light" : " lights"));
+    if (j.contains("generate") && j["generate"].is_array())
+        for (const nlohmann::json& g : j["generate"]) {
+            if (!g.is_object() || !g.contains("count")) continue;
+            std::string part = number(g["count"]) + " generated lights";
+            if (g.contains("range") && g["range"].is_array() && g["range"].size() == 2)
+                part += " of range " + number(g["range"][0]) + ".." + number(g["range"][1]);
+            add(part);
+        }
+    return facts;
 }
 
 } // namespace
@@ -61,7 +95,9 @@ int listCommand(const std::vector<std::string_view>& args) {
             const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
             tessera::checkJsonDepth(text, f.string());
             const nlohmann::json j = nlohmann::json::parse(text);
-            if (j.contains("description") && j["description"].is_string()) description = firstSentence(j["description"].get<std::string>());
+            description = sceneFacts(j);
+            if (j.contains("description") && j["description"].is_string())
+                description += (description.empty() ? "" : ": ") + firstSentence(j["description"].get<std::string>());
         } catch (const std::exception&) {
             description = "(not valid JSON)";
         }

@@ -226,6 +226,19 @@ TEST_CASE("cli: list names every technique with its state and the bundled scenes
     for (const char* id : {"preview ", "forward ", "deferred ", "forward-plus ", "deferred-classic ", "light-prepass ", "ready", "default ", "sponza-large-lights",
                            "sponza-small-lights", "builtin"})
         CHECK_MESSAGE(r.output.find(id) != std::string::npos, id);
+    // Each scene's line says what sets it apart (size, technique, lights), and its description's
+    // first sentence is not cut at an abbreviation ("GPU Pro 4 ch. 5's ...").
+    const auto lineOf = [&r](const std::string& scene) {
+        const std::size_t at = r.output.find("\n  " + scene + " ");
+        return at == std::string::npos ? std::string() : r.output.substr(at + 1, r.output.find('\n', at + 1) - at - 1);
+    };
+    CHECK(lineOf("sponza-large-lights").find("1280x720, forward, 64 generated lights of range 35..40: Crytek Sponza") != std::string::npos);
+    CHECK(lineOf("sponza-small-lights").find("64 generated lights of range 1..2: Crytek Sponza") != std::string::npos);
+    CHECK(lineOf("sponza-sun").find("forward-plus-amd, 1 light, 64 generated lights") != std::string::npos);
+    CHECK(lineOf("sponza-sun").find("GPU Pro 4 ch. 5's two Forward+ extensions") != std::string::npos);
+    CHECK(lineOf("default").find("640x360, forward, 4 lights: The default scene") != std::string::npos);
+    for (const char* scene : {"default", "sponza-large-lights", "sponza-small-lights", "sponza-sun"})
+        CHECK_MESSAGE(lineOf(scene).size() < 2 + 22 + 1 + 80 + 2 + 160 + 4, scene);  // name, facts, summary cut at a word
 }
 
 TEST_CASE("cli: bad scene input exits 2, names the file and key, and writes nothing") {
