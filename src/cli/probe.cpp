@@ -1,9 +1,12 @@
 // `tessera probe SCENE X Y [render flags]`: the history of one pixel through the frame, which is
 // `tessera render SCENE --probe X,Y` writing nothing unless --out or --dump is given.
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <tessera/state/viewport.h>  // kMaxSurfaceDimension
 
 #include "commands.h"
 #include "render_args.h"
@@ -31,7 +34,10 @@ int probeCommand(const std::vector<std::string_view>& args) {
         return 0;
     }
     if (args.size() < 3) throw UsageError("probe needs SCENE X Y (window pixels)");
-    const std::string xy = std::string(args[1]) + "," + std::string(args[2]);
+    // X and Y are checked here, under the names the user typed, not as render's --probe X,Y.
+    const std::uint32_t x = parseUint("probe X", args[1], 0, kMaxSurfaceDimension - 1);
+    const std::uint32_t y = parseUint("probe Y", args[2], 0, kMaxSurfaceDimension - 1);
+    const std::string xy = std::to_string(x) + "," + std::to_string(y);
     std::vector<std::string_view> renderArgs{args[0], "--probe", xy};
     bool writes = false;
     for (std::size_t i = 3; i < args.size(); ++i) {
@@ -40,7 +46,16 @@ int probeCommand(const std::vector<std::string_view>& args) {
         renderArgs.push_back(args[i]);
     }
     if (!writes) renderArgs.push_back("--no-output");
-    return renderCommand(renderArgs);
+    try {
+        return renderCommand(renderArgs);
+    } catch (const UsageError& e) {
+        // A pixel outside the frame is known only once the scene has loaded: say it as "probe X Y".
+        const std::string_view what = e.what();
+        constexpr std::string_view kRenderFlag = "--probe: ";
+        if (what.substr(0, kRenderFlag.size()) != kRenderFlag) throw;
+        throw UsageError("probe " + std::string(args[1]) + " " + std::string(args[2]) + ": " +
+                         std::string(what.substr(kRenderFlag.size())));
+    }
 }
 
 } // namespace tessera::cli

@@ -579,7 +579,16 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
     CHECK(text.output.find("gbuffer: depth") != std::string::npos);
     CHECK(text.output.find("in  SV_Position [10.5,10.5,") != std::string::npos);
     CHECK(text.output.find("      light 0: ") != std::string::npos);
-    CHECK(run("probe default 64 0 --width 64 --height 36").output.find("outside the 64x36 frame") != std::string::npos);
+    // Errors name the arguments as the user typed them (probe X Y), not render's --probe X,Y.
+    const Run outside = run("probe default 64 0 --width 64 --height 36");
+    CHECK(outside.exitCode == 2);
+    CHECK(outside.output.find("probe 64 0: (64, 0) is outside the 64x36 frame") != std::string::npos);
+    const Run notNumber = run("probe default x 5");
+    CHECK(notNumber.exitCode == 2);
+    CHECK(notNumber.output.find("probe X: 'x' is not an integer") != std::string::npos);
+    CHECK(run("probe default 5 70000").output.find("probe Y: '70000' is not an integer") != std::string::npos);
+    for (const char* args : {"probe default 64 0 --width 64 --height 36", "probe default x 5", "probe default 5 70000"})
+        CHECK_MESSAGE(run(args).output.find("--probe") == std::string::npos, args);
     CHECK(run("probe default 5").exitCode == 2);
     CHECK(run("render default --json").exitCode == 2);
 }
