@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -444,6 +445,11 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
     std::vector<WrittenFile> lightWritten;
     nlohmann::json lightSteps = nlohmann::json::object();
     std::optional<tessera::PixelHistory> history = probeHistory(o, desc.width, desc.height);
+    if (history) {
+        std::vector<std::string> names;
+        for (const auto& light : scene.lights) names.push_back(light.name);
+        history->nameLights(std::move(names));
+    }
     tessera::PixelWatch watch;
     if (o.probe) watch = {(*o.probe)[0], (*o.probe)[1], {}};
     if (!o.dumpLights.empty() || history)

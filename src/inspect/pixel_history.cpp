@@ -2,6 +2,8 @@
 #include <tessera/inspect/pixel_history.h>
 
 #include <bit>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <set>
@@ -235,17 +237,45 @@ void PixelHistory::addTileInfo(const BufferRegistry& registry, std::uint32_t til
     }
 }
 
+namespace {
+
+// A value for the text listing: every float rounded to kTextDigits significant digits (the
+// --json output keeps them all), so that a term reads 0.170333, not 0.17033250629901886.
+constexpr int kTextDigits = 6;  // significant decimal digits of a float in probe's text
+nlohmann::json rounded(const nlohmann::json& value) {
+    if (value.is_number_float()) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.*g", kTextDigits, value.get<double>());
+        return std::strtod(text, nullptr);
+    }
+    if (!value.is_structured()) return value;
+    nlohmann::json copy = value;
+    for (auto& item : copy.items()) item.value() = rounded(item.value());
+    return copy;
+}
+std::string readable(const nlohmann::json& value) { return rounded(value).dump(); }
+
+} // namespace
+
 std::string PixelHistory::text() const {
+    const auto lightLabel = [this](const nlohmann::json& light) {
+        if (light.is_string()) return "light " + light.get<std::string>();  // "ambient"
+        const long long index = light.get<long long>();
+        std::string label = "light " + std::to_string(index);
+        if (index >= 0 && std::size_t(index) < mLightNames.size() && !mLightNames[std::size_t(index)].empty())
+            label += " '" + mLightNames[std::size_t(index)] + "'";
+        return label;
+    };
     std::string out = "pixel (" + std::to_string(mX) + ", " + std::to_string(mY) + ")\n";
     for (const auto& e : mEvents) {
         std::string where = e["pass"].get<std::string>();
-        if (e.contains("light")) where += " light " + std::to_string(e["light"].get<long long>()) + " " + e["step"].get<std::string>();
+        if (e.contains("light")) where += " " + lightLabel(e["light"]) + " " + e["step"].get<std::string>();
         if (e.contains("compute")) {  // a compute pass's thread for the pixel
             out += "  " + where + ": compute thread shades the pixel\n";
         } else if (e.contains("draw")) {  // a rasterizer event
             out += "  " + where + ": draw " + std::to_string(e["draw"].get<std::uint64_t>()) + " primitive " +
                    std::to_string(e["primitive"].get<std::uint32_t>()) + " (" + e["face"].get<std::string>() + "), coverage " +
-                   std::to_string(e["coverage"].get<std::uint32_t>()) + ", z " + e["z"].dump() + ", " +
+                   std::to_string(e["coverage"].get<std::uint32_t>()) + ", z " + readable(e["z"]) + ", " +
                    (e["passed"].get<std::uint32_t>() ? "passed" : "failed") +
                    (e.contains("test") ? " (" + e["test"].get<std::string>() + ")" : std::string()) +
                    (e.contains("stencil") ? ", stencil op " + e["stencil"]["op"].get<std::string>() + " ref " +
@@ -256,28 +286,28 @@ std::string PixelHistory::text() const {
         if (e.contains("draw") || e.contains("compute")) {
             if (e.contains("inputs"))
                 for (const auto& input : e["inputs"])
-                    out += "      in  " + input["name"].get<std::string>() + " " + input["value"].dump() + "\n";
+                    out += "      in  " + input["name"].get<std::string>() + " " + readable(input["value"]) + "\n";
             if (e.contains("lights"))
                 for (const auto& l : e["lights"]) {
-                    out += "      light " + (l["light"].is_string() ? l["light"].get<std::string>() : l["light"].dump()) + ": ";
+                    out += "      " + lightLabel(l["light"]) + ": ";
                     if (l.contains("none")) {
                         out += "none, " + l["none"].get<std::string>() + "\n";
                         continue;
                     }
-                    out += l.contains("added") ? "added " + l["added"].dump() : "diffuse " + l["diffuse"].dump() + " specular " + l["specular"].dump();
-                    out += " (N.L " + l["nDotL"].dump() + ", falloff " + l["falloff"].dump() + ", cone " + l["cone"].dump() + ")\n";
+                    out += l.contains("added") ? "added " + readable(l["added"]) : "diffuse " + readable(l["diffuse"]) + " specular " + readable(l["specular"]);
+                    out += " (N.L " + readable(l["nDotL"]) + ", falloff " + readable(l["falloff"]) + ", cone " + readable(l["cone"]) + ")\n";
                 }
-            if (e.contains("output")) out += "      shader output " + e["output"].dump() + "\n";
+            if (e.contains("output")) out += "      shader output " + readable(e["output"]) + "\n";
             if (e.contains("depthStencil"))
-                out += "      depth/stencil " + e["depthStencil"]["before"].dump() + " -> " + e["depthStencil"]["after"].dump() + "\n";
-            if (e.contains("color")) out += "      colour " + e["color"]["before"].dump() + " -> " + e["color"]["after"].dump() + "\n";
+                out += "      depth/stencil " + readable(e["depthStencil"]["before"]) + " -> " + readable(e["depthStencil"]["after"]) + "\n";
+            if (e.contains("color")) out += "      colour " + readable(e["color"]["before"]) + " -> " + readable(e["color"]["after"]) + "\n";
             continue;
         }
         out += "  " + where + ": " + e["buffer"].get<std::string>() + " " +
-               (e.contains("before") ? e["before"].dump() + " -> " : std::string("= ")) + e["after"].dump() + "\n";
+               (e.contains("before") ? readable(e["before"]) + " -> " : std::string("= ")) + readable(e["after"]) + "\n";
     }
     if (!mTile.is_null()) {
-        out += "tile     " + mTile.dump() + "\n";
+        out += "tile     " + readable(mTile) + "\n";
         if (mTile.contains("culled"))
             out += "         " + std::to_string(mTile["culled"].get<std::size_t>()) +
                    " of the scene's lights are not in this tile's list (culled): the shader never reads them\n";

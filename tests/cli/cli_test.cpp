@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -578,7 +579,30 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
     CHECK(text.output.find("pixel (10, 10)") != std::string::npos);
     CHECK(text.output.find("gbuffer: depth") != std::string::npos);
     CHECK(text.output.find("in  SV_Position [10.5,10.5,") != std::string::npos);
-    CHECK(text.output.find("      light 0: ") != std::string::npos);
+    CHECK(text.output.find("      light 0 'sun': ") != std::string::npos);  // by index and the scene's name
+    CHECK(text.output.find("shade: draw") != std::string::npos);
+    // Text rounds to 6 significant digits (--json keeps every digit): no decimal number with 7 or
+    // more significant digits (0.17033250629901886 was printed as is; integers such as D24 codes
+    // are exact and stay whole).
+    std::size_t mostDigits = 0;
+    std::string widest;
+    for (std::size_t i = 0; i < text.output.size();) {
+        const auto isNumberChar = [&](std::size_t k) {
+            return std::isdigit(static_cast<unsigned char>(text.output[k])) || text.output[k] == '.';
+        };
+        if (!std::isdigit(static_cast<unsigned char>(text.output[i]))) { ++i; continue; }
+        std::size_t end = i;
+        while (end < text.output.size() && isNumberChar(end)) ++end;
+        const std::string number = text.output.substr(i, end - i);
+        if (number.find('.') != std::string::npos) {
+            std::size_t significant = 0;
+            for (const char c : number) significant += c != '.' && (significant > 0 || c != '0');
+            if (significant > mostDigits) { mostDigits = significant; widest = number; }
+        }
+        i = end;
+    }
+    INFO("widest decimal: " << widest);
+    CHECK(mostDigits <= 6);
     // Errors name the arguments as the user typed them (probe X Y), not render's --probe X,Y.
     const Run outside = run("probe default 64 0 --width 64 --height 36");
     CHECK(outside.exitCode == 2);

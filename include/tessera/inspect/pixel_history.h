@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -46,6 +48,9 @@ public:
     const nlohmann::json& tile() const { return mTile; }
     // The buffers' last recorded values (name -> value): what the history says the frame ends with.
     const nlohmann::json& last() const { return mLast; }
+    // The scene's light names by index, for text(): "light 1 'warm left'" (lights past the list,
+    // such as GPU Pro 4's VPLs, and unnamed ones keep their index alone).
+    void nameLights(std::vector<std::string> names) { mLightNames = std::move(names); }
     std::string text() const;
 
 private:
@@ -54,6 +59,7 @@ private:
     nlohmann::json mLast = nlohmann::json::object();
     nlohmann::json mTile;  // null unless tiled
     std::size_t mWatchTaken = 0;  // watch events already turned into history events
+    std::vector<std::string> mLightNames;
 };
 
 } // namespace tessera
