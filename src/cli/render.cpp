@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include <tessera/frame/memory_limit.h>
+#include <tessera/scene/camera.h>
 #include <tessera/scene/default_lights.h>
 #include <tessera/scene/depth_precision.h>
 #include <tessera/scene/scene_file.h>
@@ -56,6 +57,10 @@ options:
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
   --precision MODE  reference, exact or fast (default: the scene file's, else exact)
+  --camera-position X,Y,Z  the eye, world units; with --camera-target the camera a scene file's
+                    {"position", "target"} makes (+Y up), alone it looks at the scene's bounds' centre
+  --camera-target X,Y,Z    the point looked at (alone: from the scene's camera position)
+  --fov DEG         vertical field of view over the scene's camera, 0..180 exclusive
   --lights N        light count of every generator in the scene file, 0..1000000 (all of them
                     together at most 1000000)
   --memory-limit G  refuse, before allocating, a render whose scene and frame buffers would need more
@@ -210,6 +215,47 @@ struct LoadedScene {
 // The scene file's description with the command line laid over it (--technique and its
 // --option values, size, precision, light counts), checked before anything loads: an unknown or
 // unimplemented technique, MSAA it cannot do, --dump-lights it cannot step.
+// --fov, and --camera-position with --camera-target, laid over the scene's camera before it loads:
+// the look-at camera a scene file's {"position", "target"} gives (same function, same bits), its
+// fovYDeg, near and far as the file has them. A position or target alone needs the loaded
+// scene (aimCameraArgs).
+void applyCameraArgs(const RenderOptions& o, tessera::SceneDescription& desc, const fs::path& sceneFile) {
+    if (o.fovDeg) {
+        if (desc.cameraSource == tessera::CameraSource::Explicit && desc.camera.projection != tessera::ProjectionKind::Perspective)
+            throw UsageError("--fov: " + sceneFile.string() + "'s camera is orthographic");
+        desc.cameraFovYDeg = *o.fovDeg;
+        if (desc.cameraSource == tessera::CameraSource::Explicit) desc.camera.fovYDeg = *o.fovDeg;
+    }
+    if (!(o.cameraPosition && o.cameraTarget)) return;
+    const tessera::LookAt look = tessera::lookAtOrientation(*o.cameraPosition, *o.cameraTarget, glm::vec3(0.0f, 1.0f, 0.0f));
+    if (look.problem != tessera::LookAt::Problem::None) throw UsageError(std::string("--camera-target: ") + look.why());
+    tessera::Camera camera;
+    camera.name = "command line";
+    camera.positionWorld = *o.cameraPosition;
+    camera.orientationWorld = look.orientationWorld;
+    if (desc.cameraFovYDeg) camera.fovYDeg = *desc.cameraFovYDeg;
+    if (desc.cameraNearZ) camera.nearZ = *desc.cameraNearZ;
+    if (desc.cameraFarZ) camera.farZ = *desc.cameraFarZ;
+    desc.camera = camera;
+    desc.cameraSource = tessera::CameraSource::Explicit;
+}
+
+// A --camera-position or --camera-target given alone, over the loaded camera: a position looks at
+// the scene's bounds' centre, a target is looked at from the camera's own position.
+void aimCameraArgs(const RenderOptions& o, const tessera::Scene& scene, tessera::Camera& camera) {
+    if (o.cameraPosition.has_value() == o.cameraTarget.has_value()) return;  // both: applyCameraArgs; none
+    const tessera::Bounds bounds = scene.bounds();
+    const glm::vec3 position = o.cameraPosition.value_or(camera.positionWorld);
+    const glm::vec3 target = o.cameraTarget ? *o.cameraTarget : (bounds.minWorld + bounds.maxWorld) * 0.5f;
+    if (!o.cameraTarget && bounds.empty()) throw UsageError("--camera-position: the scene is empty, nothing to look at (give --camera-target)");
+    const tessera::LookAt look = tessera::lookAtOrientation(position, target, glm::vec3(0.0f, 1.0f, 0.0f));
+    if (look.problem != tessera::LookAt::Problem::None)
+        throw UsageError(std::string(o.cameraTarget ? "--camera-target: " : "--camera-position: ") + look.why() +
+                         (o.cameraTarget ? "" : " (the scene's bounds' centre)"));
+    camera.positionWorld = position;
+    camera.orientationWorld = look.orientationWorld;
+}
+
 tessera::SceneDescription describeForRender(RenderOptions& o, const fs::path& sceneFile) {
     tessera::SceneDescription desc = describe(sceneFile);
     if (!o.technique.empty() && o.technique != desc.technique) {
@@ -235,6 +281,7 @@ tessera::SceneDescription describeForRender(RenderOptions& o, const fs::path& sc
                          techniquesWith(tessera::kPerLightSteps) + " do); --dump-after shows its passes");
     if (o.width) desc.width = o.width;
     if (o.height) desc.height = o.height;
+    applyCameraArgs(o, desc, sceneFile);
     if (o.precision) desc.precision = *o.precision;
     desc.generatedBitangentUp = o.generatedBitangentUp;
     if (o.lights) {
@@ -292,6 +339,7 @@ LoadedScene loadForRender(RenderOptions& o, Progress& progress) {
     progress.update("loading " + sceneFile.filename().string(), 0, 0);
     s.scene = tessera::loadScene(desc, true, &s.camera);
     tessera::Scene& scene = s.scene;
+    aimCameraArgs(o, scene, s.camera);
     const tessera::Camera& camera = s.camera;
     if (o.generatedBitangentGiven) {
         // Generated tangents change a render only where a normal texture reads them.

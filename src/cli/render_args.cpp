@@ -28,6 +28,23 @@ std::uint32_t parseUint(std::string_view flag, std::string_view text, std::uint3
     return std::uint32_t(v);
 }
 
+glm::vec3 parseVec3(std::string_view flag, std::string_view text) {
+    glm::vec3 v(0.0f);
+    std::size_t start = 0;
+    for (int i = 0; i < 3; ++i) {
+        const std::size_t comma = i < 2 ? text.find(',', start) : text.size();
+        if (comma == std::string_view::npos) break;
+        const std::string part(text.substr(start, comma - start));
+        char* end = nullptr;
+        v[i] = std::strtof(part.c_str(), &end);
+        if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(v[i]))
+            throw UsageError(std::string(flag) + ": '" + std::string(text) + "' is not X,Y,Z (three finite numbers)");
+        start = comma + 1;
+        if (i == 2) return v;
+    }
+    throw UsageError(std::string(flag) + ": '" + std::string(text) + "' is not X,Y,Z (three finite numbers)");
+}
+
 std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text) {
     const std::size_t eq = text.find('=');
     if (eq == std::string_view::npos || eq == 0)
@@ -155,6 +172,15 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             if (comma == std::string::npos) throw UsageError("--probe: '" + text + "' is not X,Y (window pixels)");
             o.probe = std::array<std::uint32_t, 2>{parseUint("--probe", std::string_view(text).substr(0, comma), 0, kMaxSurfaceDimension - 1),
                                                    parseUint("--probe", std::string_view(text).substr(comma + 1), 0, kMaxSurfaceDimension - 1)};
+        } else if (a == "--camera-position" || a == "--camera-target") {
+            (a == "--camera-position" ? o.cameraPosition : o.cameraTarget) = parseVec3(a, value());
+        } else if (a == "--fov") {
+            const std::string text(value());
+            char* end = nullptr;
+            const float deg = std::strtof(text.c_str(), &end);
+            if (end != text.c_str() + text.size() || !(deg > 0.0f && deg < 180.0f))
+                throw UsageError("--fov: '" + text + "' is not a vertical field of view in degrees, between 0 and 180");
+            o.fovDeg = deg;
         } else if (a == "--json") {
             o.probeJson = true;
         } else if (a == "--exposure") {
@@ -206,6 +232,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.scene == "builtin") {
         if (!o.technique.empty()) warn("--technique: the builtin scene draws with its own shading; the flag changes nothing");
         if (o.lights) warn("--lights: the builtin scene has no light generators; the flag changes nothing");
+        if (o.cameraPosition || o.cameraTarget || o.fovDeg)
+            warn("--camera-position, --camera-target, --fov: the builtin scene has its own camera; the flags change nothing");
     }
     return o;
 }

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/glm.hpp>
+
 #include <tessera/io/image_writer.h>
 #include <tessera/raster/device.h>
 #include <tessera/state/precision.h>
@@ -35,6 +37,9 @@ std::string knownTechniqueIds();
 // Throws UsageError "FLAG: unknown technique 'ID' (one of ...)" when no technique has id `id`.
 void requireKnownTechnique(std::string_view flag, const std::string& id);
 
+// "X,Y,Z": three finite numbers, else a UsageError naming `flag`.
+glm::vec3 parseVec3(std::string_view flag, std::string_view text);
+
 // --option KEY=VALUE: VALUE as JSON (true, 32, "x", [..]), else the bare text as a string.
 std::pair<std::string, nlohmann::json> parseOptionArg(std::string_view text);
 
@@ -53,6 +58,11 @@ struct RenderOptions {
     std::uint32_t width = 0, height = 0;  // 0: the scene's
     std::optional<Precision> precision;
     std::optional<std::uint32_t> lights;
+    // --camera-position / --camera-target X,Y,Z (world units) and --fov DEG (vertical), over the
+    // scene's camera: both points make a look-at camera, as a scene file's {position, target};
+    // a position alone looks at the scene's bounds' centre; a target alone re-aims the camera.
+    std::optional<glm::vec3> cameraPosition, cameraTarget;
+    std::optional<float> fovDeg;
     std::vector<std::pair<std::string, nlohmann::json>> options;  // --option, in command-line order
     DeviceConfig device;
     std::uint32_t msaa = 1;

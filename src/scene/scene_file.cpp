@@ -5,6 +5,7 @@
 
 #include <tessera/errors/input_error.h>
 #include <tessera/io/json_depth.h>
+#include <tessera/math/unit_length.h>
 #include <tessera/scene/gltf_loader.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -108,24 +109,6 @@ void checkGeneratedTotal(const std::vector<LightGeneratorSpec>& generators, cons
 }
 
 // Validating reader: every check throws inputError(file, path, what).
-// v / |v| in binary32 without overflow or underflow in |v|^2: v / sqrt(dot(v, v)) as before
-// where the squared length is a finite normal float (so ordinary inputs keep their bits), else
-// the vector is first divided by its largest magnitude (exact for powers of two, and any
-// finite nonzero vector then has a squared length in [1, 4)). Nullopt: zero or not finite.
-template <class V>
-std::optional<V> unitLength(const V& v) {
-    float dotSum = 0.0f, largest = 0.0f;
-    for (int i = 0; i < V::length(); ++i) {
-        dotSum += v[i] * v[i];
-        largest = std::max(largest, std::fabs(v[i]));
-    }
-    if (!(largest > 0.0f) || !std::isfinite(largest)) return std::nullopt;
-    if (std::isfinite(dotSum) && dotSum >= std::numeric_limits<float>::min()) return v / std::sqrt(dotSum);
-    const V scaled = v / largest;
-    float scaledSum = 0.0f;
-    for (int i = 0; i < V::length(); ++i) scaledSum += scaled[i] * scaled[i];
-    return scaled / std::sqrt(scaledSum);
-}
 
 class Reader {
 public:
@@ -383,16 +366,10 @@ void parseCamera(const Reader& r, const Json& value, SceneDescription& d) {
     } else if (hasTarget) {
         const glm::vec3 target = r.vec3(value["target"], "/camera/target");
         const glm::vec3 up = hasUp ? r.direction(value["up"], "/camera/up") : glm::vec3(0.0f, 1.0f, 0.0f);
-        const glm::vec3 forward = target - camera.positionWorld;
-        if (forward == glm::vec3(0.0f)) r.fail("/camera/target", "the target equals the position");
-        // Finite inputs can still differ by more than FLT_MAX (position 3e38, target -3e38).
-        const std::optional<glm::vec3> unit = unitLength(forward);
-        if (!unit) r.fail("/camera/target", "target - position overflows binary32 (a component beyond 3.4e38)");
-        const glm::vec3 forwardUnit = *unit;
-        const glm::vec3 side = glm::cross(forwardUnit, up);
-        if (!(glm::dot(side, side) > 1e-12f)) r.fail(hasUp ? "/camera/up" : "/camera/target", "\"up\" is parallel to the view direction");
-        // Right-handed look-at: the camera's -Z looks along forwardUnit, +Y towards up.
-        camera.orientationWorld = glm::quatLookAtRH(forwardUnit, up);
+        const LookAt look = lookAtOrientation(camera.positionWorld, target, up);
+        if (look.problem == LookAt::Problem::UpParallel) r.fail(hasUp ? "/camera/up" : "/camera/target", look.why());
+        if (look.problem != LookAt::Problem::None) r.fail("/camera/target", look.why());
+        camera.orientationWorld = look.orientationWorld;
     } else {
         r.fail(path, "\"position\" needs \"rotation\" or \"target\"");
     }

@@ -332,6 +332,47 @@ TEST_CASE("cli: a glTF file renders directly with the preview technique and a fr
     CHECK(bad.output.find("not a scene file") != std::string::npos);
 }
 
+TEST_CASE("cli: camera flags on a glTF give the bytes of a scene file with that camera, and bad values exit 2") {
+    const std::string box = std::string(TESSERA_SOURCE_DIR) + "/scenes/khronos/BoxTextured/glTF/BoxTextured.gltf";
+    const auto scene = scratch("camera-flags.json");
+    {
+        std::ofstream f(scene);
+        f << R"({"models": [{"path": ")" << box
+          << R"("}], "camera": {"position": [2, 1.5, 3], "target": [0, 0, 0], "fovYDeg": 30}, "resolution": [64, 36], "technique": "preview"})";
+    }
+    const auto bytesOf = [](const std::filesystem::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const auto fromFile = scratch("camera-file.png"), fromFlags = scratch("camera-flags.png"), framing = scratch("camera-framing.png"),
+               positionOnly = scratch("camera-position.png");
+    REQUIRE(run("render " + scene.string() + " -o " + fromFile.string() + " --quiet").exitCode == 0);
+    const std::string size = " --width 64 --height 36 --quiet";
+    REQUIRE(run("render " + box + size + " --camera-position 2,1.5,3 --camera-target 0,0,0 --fov 30 -o " + fromFlags.string()).exitCode == 0);
+    REQUIRE(run("render " + box + size + " -o " + framing.string()).exitCode == 0);
+    // BoxTextured's bounds are centred on the origin: a position alone looks at (0, 0, 0) too.
+    REQUIRE(run("render " + box + size + " --camera-position=2,1.5,3 --fov=30 -o " + positionOnly.string()).exitCode == 0);
+    CHECK(!bytesOf(fromFile).empty());
+    CHECK(bytesOf(fromFlags) == bytesOf(fromFile));
+    CHECK(bytesOf(positionOnly) == bytesOf(fromFile));
+    CHECK(bytesOf(framing) != bytesOf(fromFile));  // the flags did move the camera
+    struct Case { std::string args, mentions; };
+    const Case cases[] = {
+        {"--camera-position 1,2", "--camera-position: '1,2' is not X,Y,Z"},
+        {"--camera-target 1,x,3", "--camera-target: '1,x,3' is not X,Y,Z"},
+        {"--camera-position 1,2,3 --camera-target 1,2,3", "--camera-target: the target equals the position"},
+        {"--camera-position 0,5,0", "--camera-position: \"up\" is parallel to the view direction"},
+        {"--fov 180", "--fov: '180' is not a vertical field of view"},
+        {"--fov 0", "--fov: '0' is not a vertical field of view"},
+    };
+    for (const Case& c : cases) {
+        const Run e = run("render " + box + size + " --no-output " + c.args);
+        INFO(c.args << " -> " << e.output);
+        CHECK(e.exitCode == 2);
+        CHECK(e.output.find(c.mentions) != std::string::npos);
+    }
+}
+
 TEST_CASE("cli: --precision reaches every technique and the builtin scene") {
     const auto dump = scratch("precision-dump");
     std::filesystem::remove_all(dump);

@@ -26,4 +26,15 @@ struct Camera {
     glm::mat4 viewFromWorld() const;
 };
 
+// A look-at orientation: a camera at positionWorld whose -Z looks at targetWorld, +Y towards
+// upWorld (right-handed), as a scene file's camera {position, target, up} and the command line's
+// --camera-position / --camera-target build it. A problem leaves the orientation unset.
+struct LookAt {
+    enum class Problem { None, SamePoint, Overflow, UpParallel };
+    glm::quat orientationWorld{1.0f, 0.0f, 0.0f, 0.0f};
+    Problem problem = Problem::None;
+    const char* why() const;  // the problem in words ("the target equals the position", ...)
+};
+LookAt lookAtOrientation(glm::vec3 positionWorld, glm::vec3 targetWorld, glm::vec3 upWorld);
+
 } // namespace tessera
