@@ -97,8 +97,20 @@ struct TechniqueReport {
     std::uint64_t differing = 0;
 };
 
+// True when every stencil value of `s` (every pixel and sample) is the same: a technique that
+// never touches the stencil leaves its clear value everywhere, a flat picture that teaches nothing.
+bool stencilUniform(const Surface& s) {
+    const std::uint8_t first = s.loadStencil(0, 0, 0);
+    for (std::uint32_t y = 0; y < s.height(); ++y)
+        for (std::uint32_t x = 0; x < s.width(); ++x)
+            for (std::uint32_t i = 0; i < s.sampleCount(); ++i)
+                if (s.loadStencil(x, y, i) != first) return false;
+    return true;
+}
+
 // Writes `s` as a picture into dir/file and returns the shot (RGBA8 as stored with opaque alpha;
-// others through viewBuffer). Empty file when nothing viewable.
+// others through viewBuffer). Empty file when nothing viewable. A stencil that holds one value
+// everywhere gets no picture (the depth shot's rule says which value).
 std::vector<Shot> pictures(const fs::path& root, const std::string& folder, const std::string& name, const Surface& s) {
     std::vector<Shot> shots;
     fs::create_directories(root / folder);
@@ -108,14 +120,19 @@ std::vector<Shot> pictures(const fs::path& root, const std::string& folder, cons
         shots.push_back({file, "the stored RGBA8 bytes, alpha shown opaque", name});
         return shots;
     }
+    const bool hasStencil = formatInfo(s.format()).hasStencil;
+    const bool flatStencil = hasStencil && s.width() > 0 && s.height() > 0 && stencilUniform(s);
     for (const ViewChannel channel : {ViewChannel::Depth, ViewChannel::Stencil}) {
-        if (channel == ViewChannel::Stencil && !formatInfo(s.format()).hasStencil) continue;
+        if (channel == ViewChannel::Stencil && (!hasStencil || flatStencil)) continue;
         const auto view = viewBuffer(name, s, channel);
         if (!view) continue;
         const std::string label = channel == ViewChannel::Stencil ? name + " (stencil)" : name;
         const std::string file = folder + "/" + name + (channel == ViewChannel::Stencil ? ".stencil" : "") + ".png";
         writeSurface(view->image, root / file);
-        shots.push_back({file, view->rule, label});
+        std::string rule = view->rule;
+        if (channel == ViewChannel::Depth && flatStencil)
+            rule += "; its stencil is " + std::to_string(s.loadStencil(0, 0, 0)) + " everywhere (no picture)";
+        shots.push_back({file, rule, label});
     }
     return shots;
 }

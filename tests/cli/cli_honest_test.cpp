@@ -230,6 +230,17 @@ TEST_CASE("cli honest: the report's why column comes from each run's counts and 
     const std::string deferred = rowOf("deferred");
     CHECK(deferred.find("alphaTest=false (#2)") != std::string::npos);
     CHECK(deferred.find("lights skipped") == std::string::npos);
+    // Stencil pictures only where the stencil holds more than one value: forward never touches it
+    // (a flat picture taught nothing), Killzone 2's marking does.
+    const auto sectionOf = [&page](const std::string& id) {
+        const std::size_t at = page.find("<h2 id=\"" + id + "\">");
+        REQUIRE_MESSAGE(at != std::string::npos, id);
+        return page.substr(at, page.find("<h2 id=", at + 1) - at);
+    };
+    const std::string forward = sectionOf("forward");
+    CHECK(forward.find(".stencil.png") == std::string::npos);
+    CHECK(forward.find("its stencil is 0 everywhere (no picture)") != std::string::npos);
+    CHECK(sectionOf("deferred-killzone").find(".stencil.png") != std::string::npos);
 }
 
 TEST_CASE("cli honest: --precision reference --out writes the double result: PNG rounded once from it, EXR its floats") {
