@@ -23,6 +23,7 @@
 #include <tessera/techniques/technique.h>
 
 #include "arg_cursor.h"
+#include "frame_runs.h"  // lightGridTileSize
 #include "output_check.h"
 #include "scene_args.h"
 
@@ -81,6 +82,7 @@ struct Shot {
 };
 struct PassReport {
     std::string name;
+    std::string folder;  // where its pictures are, under the report's root
     double ms = 0.0;
     double bufferMiB = 0.0;  // every named buffer alive after the pass
     std::vector<std::string> reads, writes;
@@ -330,15 +332,32 @@ int reportCommand(const std::vector<std::string_view>& args) {
         BufferRegistry registry;
         std::size_t passIndex = 0;
         const std::vector<PassTiming> timings = frame.run(registry, [&](const Pass& pass, const BufferRegistry& reg) {
-            PassReport pr{pass.name, 0.0, 0.0, pass.reads, pass.writes, {}};
+            PassReport pr{pass.name, {}, 0.0, 0.0, pass.reads, pass.writes, {}};
             for (const std::string& name : reg.names()) pr.bufferMiB += double(reg.find(name)->bytes().size()) / (1024.0 * 1024.0);
             const std::string folder = tr.id + "/" + std::to_string(passIndex++) + "-" + folderName(pass.name);
+            pr.folder = folder;
             for (const std::string& name : pass.writes)
                 if (const Surface* s = reg.find(name))
                     for (Shot& shot : pictures(root, folder, name, *s)) pr.shots.push_back(shot);
             tr.passes.push_back(std::move(pr));
         });
         for (std::size_t i = 0; i < timings.size() && i < tr.passes.size(); ++i) tr.passes[i].ms = timings[i].milliseconds;
+        // The tiled techniques' light grids as counts over the final image (as --dump's view/
+        // *.overlay.png), beside the pass that wrote them: the image exists only at the frame's end.
+        SceneDescription tiled = desc;
+        tiled.technique = tr.id;
+        tiled.techniqueOptions = ctx.options;
+        if (const std::uint32_t tileSize = lightGridTileSize(tiled); tileSize > 0)
+            for (PassReport& pr : tr.passes)
+                for (const std::string& name : pr.writes) {
+                    const Surface* grid = registry.find(name);
+                    if (name.rfind("lightgrid", 0) != 0 || !grid) continue;
+                    const auto overlay = overlayTileCounts(*grid, tileSize, registry.get(kBackBufferName));
+                    if (!overlay) continue;
+                    const std::string file = pr.folder + "/" + name + ".overlay.png";
+                    writeSurface(overlay->image, root / file);
+                    pr.shots.push_back({file, overlay->rule, name + " over the final image"});
+                }
         tr.why = differenceNote(info.id, ctx.options, notes);
         tr.finalFile = tr.id + "/final.png";
         const Surface& back = registry.get(kBackBufferName);

@@ -241,6 +241,13 @@ TEST_CASE("cli honest: the report's why column comes from each run's counts and 
     CHECK(forward.find(".stencil.png") == std::string::npos);
     CHECK(forward.find("its stencil is 0 everywhere (no picture)") != std::string::npos);
     CHECK(sectionOf("deferred-killzone").find(".stencil.png") != std::string::npos);
+    // Forward+'s light grid as counts over the final image, beside the culling pass (it was missing).
+    const std::string forwardPlus = sectionOf("forward-plus");
+    const std::size_t overlay = forwardPlus.find("lightgrid.opaque.overlay.png");
+    REQUIRE(overlay != std::string::npos);
+    const std::size_t src = forwardPlus.rfind("src=\"", overlay);
+    REQUIRE(src != std::string::npos);
+    CHECK(fs::exists(dir / forwardPlus.substr(src + 5, overlay + std::string("lightgrid.opaque.overlay.png").size() - src - 5)));
 }
 
 TEST_CASE("cli honest: --precision reference --out writes the double result: PNG rounded once from it, EXR its floats") {
