@@ -102,23 +102,9 @@ Rendered renderRandomDraws(bool simd, Format colorFormat, Format depthFormat, st
     rt.colors[1] = &f.extra;
     rt.depthStencil = &f.depth;
     std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-1.3f, 1.3f), zr(-0.2f, 1.2f), wr(0.5f, 2.5f), c(-0.1f, 1.1f);
     for (int draw = 0; draw < 16; ++draw) {
-        std::vector<ColorVertex> verts;
-        for (int i = 0; i < 3 * 8; ++i) {  // few, large triangles: whole 8x8 blocks inside them
-            const float w = wr(rng);
-            verts.push_back({glm::vec4(u(rng) * w, u(rng) * w, zr(rng) * w, w), glm::vec4(c(rng), c(rng), c(rng), c(rng))});
-        }
-        DrawState st;
-        st.viewport = fullViewport(f.color);
-        st.viewport.minDepth = draw % 5 == 2 ? 0.2f : 0.0f;
-        st.viewport.maxDepth = draw % 5 == 3 ? 0.8f : 1.0f;
-        st.rasterizer.cullMode = CullMode(1 + draw % 3);
-        st.depthStencil.depthEnable = draw % 6 != 5;
-        st.depthStencil.depthWriteEnable = draw % 4 != 3;
-        st.depthStencil.depthFunc = ComparisonFunc(1 + (draw * 3) % 8);
-        st.depthStencil.stencilEnable = draw % 7 == 6;  // the General path: no lean block, no block shader
-        st.precision = draw % 8 == 4 ? Precision::Fast : Precision::Exact;
+        const std::vector<ColorVertex> verts = randomLargeTriangles(rng, 8);
+        DrawState st = cyclingDepthState(draw, f.color);  // its stencil draws take no block shader
         st.blend.renderTarget[0] = draw % 3 == 1 ? kAlphaBlend : RenderTargetBlendDesc{};
         st.blend.renderTarget[1] = draw % 4 == 2 ? kAdditiveBlend : RenderTargetBlendDesc{};
         st.blend.independentBlendEnable = true;
