@@ -19,6 +19,10 @@ else()
   # libstb-dev ships stb_image compiled as libstb.so (no CMake package).
   find_library(TESSERA_STB_LIBRARY stb REQUIRED)
 endif()
+# `tessera serve`'s HTTP server: cpp-httplib (libcpp-httplib-dev) ships no CMake package, only a
+# pkg-config file; its compiled half is libcpp-httplib.so.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 find_package(TinyGLTF CONFIG REQUIRED)   # target TinyGLTF::TinyGLTF (shared library on Debian)
 find_package(nlohmann_json CONFIG REQUIRED)
 if(TESSERA_BUILD_TESTS)

@@ -21,6 +21,8 @@ packages=(
   libhwy-dev
   # ray casting for forward-plus-amd's many-light shadows (GPU Pro 4 ch. 5 §5.6.2): Intel Embree 3
   libembree-dev
+  # `tessera serve`: the HTTP server of the frame inspector
+  libcpp-httplib-dev
 )
 if [ "$mode" = all ]; then
   packages+=(

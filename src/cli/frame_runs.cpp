@@ -31,7 +31,12 @@ double peakRssMiB() {
 
 } // namespace
 
-void checkDumpAfter(const tessera::Frame& frame, const RenderOptions& o) {
+void checkDumpAfter(const tessera::Frame& frame, RenderOptions& o) {
+    if (o.dumpAfterAll) {  // `--dump-after all`: every pass, in frame order
+        o.dumpAfter.clear();
+        for (const tessera::Pass& p : frame.passes()) o.dumpAfter.push_back(p.name);
+        o.dumpAfterAll = false;
+    }
     for (const std::string& wanted : o.dumpAfter) {
         std::string names;
         bool found = false;

@@ -40,8 +40,9 @@ struct FrameRuns {
     nlohmann::json after = nlohmann::json::object();       // --dump-after: pass -> its buffers
 };
 
-// --dump-after's pass names checked against the frame before it runs (UsageError naming the passes).
-void checkDumpAfter(const Frame& frame, const RenderOptions& o);
+// --dump-after's pass names checked against the frame before it runs (UsageError naming the passes);
+// `--dump-after all` becomes every pass's name.
+void checkDumpAfter(const Frame& frame, RenderOptions& o);
 
 // The frame rendered `warmup` times untimed, then `repeat` times timed, each run into a fresh
 // registry (`registry` keeps the last run's buffers, which are written). `beforeRun` resets the

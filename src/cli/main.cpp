@@ -1,5 +1,5 @@
 // The `tessera` command: the first argument names the command, which gets the rest (one file per
-// command under src/cli/: render, probe, list, options, info, report, diff; commands.h). `help
+// command under src/cli/: render, probe, list, options, info, report, diff, serve; commands.h). `help
 // COMMAND` is `COMMAND --help`. Exit codes: 0 success, 1 failure while rendering, 2 bad usage or
 // bad input (UsageError: the message and a pointer to the command's help; InputError: the message).
 #include <cstdio>
@@ -37,6 +37,7 @@ commands:
   info SCENE      describe a scene: triangles, materials, lights, bounds, memory
   report [SCENE] --out DIR  an HTML page walking through every technique's passes and buffers
   diff A B        compare two images: max abs difference, RMSE, PSNR, differing pixels
+  serve [SCENE]   the frame inspector in a web browser: passes, buffers, a pixel's history
   help [COMMAND]  show this text, or the command's options
   --version       print the version
 
@@ -53,7 +54,7 @@ const std::map<std::string_view, Command>& commands() {
         {"render", tessera::cli::renderCommand}, {"probe", tessera::cli::probeCommand},
         {"list", tessera::cli::listCommand},     {"options", tessera::cli::optionsCommand},
         {"info", tessera::cli::infoCommand},     {"report", tessera::cli::reportCommand},
-        {"diff", tessera::cli::diffCommand}};
+        {"diff", tessera::cli::diffCommand},     {"serve", tessera::cli::serveCommand}};
     return table;
 }
 

@@ -80,10 +80,11 @@ options:
                     palettes with a colour bar) and DIR/manifest.json (passes, buffers, formats, decode rules,
                     camera, options, command line)
   --dump-after PASS[,PASS]  with --dump: also the buffers as they stand after each named pass, in
-                    DIR/after-<PASS>/ (the pass names are `pass` lines of --stats)
+                    DIR/after-<PASS>/ (the pass names are `pass` lines of --stats); `all`: every pass
   --dump-lights I[,J]  with --dump, deferred and deferred-killzone: also the buffers after each step of
                     light I (scene order, from 0): DIR/light-I-unmark/ and DIR/light-I-shade/ (Killzone:
-                    -mark, -count, -shade), so the stencil can be watched being marked and cleared
+                    -mark, -count, -shade), so the stencil can be watched being marked and cleared;
+                    `all`: every light, and nothing (no error) for techniques without light steps
   --exposure E      scale of float colour buffers in DIR/view/ (default 1)
   --probe X,Y       print the history of window pixel (X, Y): each primitive that covered it (draw,
                     coverage, depth test, shader output, texels before/after), every buffer's value
@@ -484,6 +485,8 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
     tessera::FrameNotes notes;
     ctx.notes = &notes;
     // --dump-lights: the chosen lights' steps, written during the last (written) run only.
+    if (o.dumpLightsAll && (tessera::findTechnique(desc.technique)->features & tessera::kPerLightSteps))
+        for (std::uint32_t light = 0; light < scene.lights.size(); ++light) o.dumpLights.push_back(light);
     for (const std::uint32_t light : o.dumpLights)
         if (light >= scene.lights.size())
             throw UsageError("--dump-lights: light " + std::to_string(light) + " does not exist (" + sceneFile.string() + " has " +
@@ -547,7 +550,8 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
             history->addTileInfo(registry, lightGridTileSize(desc), scene.lights.size());
             if (o.probeJson) {
                 const nlohmann::json j{{"pixel", {(*o.probe)[0], (*o.probe)[1]}}, {"technique", desc.technique},
-                                       {"events", history->events()}, {"final", history->last()}, {"tile", history->tile()}};
+                                       {"events", history->events()}, {"final", history->last()}, {"tile", history->tile()},
+                                       {"lightNames", history->lightNames()}};
                 std::printf("%s\n", j.dump().c_str());
             } else {
                 std::fputs(history->text().c_str(), stdout);
@@ -571,7 +575,7 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
 }
 
 // `tessera render builtin`: the generated scene (techniques/builtin_scene.h), which needs no files.
-int renderBuiltin(const RenderOptions& o, DumpStaging* staging) {
+int renderBuiltin(RenderOptions& o, DumpStaging* staging) {
     tessera::BuiltinSceneOptions opt;
     opt.width = o.width ? o.width : opt.width;
     opt.height = o.height ? o.height : opt.height;

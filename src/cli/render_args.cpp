@@ -153,7 +153,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
         else if (a == "--dump") o.dumpDir = std::string(value());
         else if (a == "--dump-after") {
             const std::string list(value());
-            for (std::size_t start = 0; start <= list.size();) {
+            if (list == "all") o.dumpAfterAll = true;
+            for (std::size_t start = 0; start <= list.size() && !o.dumpAfterAll;) {
                 const std::size_t comma = std::min(list.find(',', start), list.size());
                 if (comma == start) throw UsageError("--dump-after: '" + list + "' has an empty pass name");
                 o.dumpAfter.push_back(list.substr(start, comma - start));
@@ -161,7 +162,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             }
         } else if (a == "--dump-lights") {
             const std::string list(value());
-            for (std::size_t start = 0; start <= list.size();) {
+            if (list == "all") o.dumpLightsAll = true;
+            for (std::size_t start = 0; start <= list.size() && !o.dumpLightsAll;) {
                 const std::size_t comma = std::min(list.find(',', start), list.size());
                 o.dumpLights.push_back(parseUint("--dump-lights", std::string_view(list).substr(start, comma - start), 0, 999999));
                 start = comma + 1;
@@ -220,10 +222,10 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (!o.technique.empty()) requireKnownTechnique("--technique", o.technique);
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
-    if (!o.dumpAfter.empty() && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
-    if (!o.dumpLights.empty() && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
+    if ((!o.dumpAfter.empty() || o.dumpAfterAll) && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
+    if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
     if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
-    if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
+    if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = std::filesystem::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (!o.options.empty() && o.scene == "builtin")

@@ -49,7 +49,9 @@ struct RenderOptions {
     std::string out = "tessera.png";
     std::string dumpDir;
     std::vector<std::string> dumpAfter;  // pass names
+    bool dumpAfterAll = false;              // `--dump-after all` (checkDumpAfter names the passes)
     std::vector<std::uint32_t> dumpLights;  // light indices
+    bool dumpLightsAll = false;             // `--dump-lights all` (every light of the loaded scene)
     float exposure = 1.0f;
     std::uint32_t viewTileSize = 0;  // the technique's light-grid tile, for the overlay views (0: none)
     std::optional<std::array<std::uint32_t, 2>> probe;  // --probe X,Y: window px

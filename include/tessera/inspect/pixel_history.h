@@ -51,6 +51,7 @@ public:
     // The scene's light names by index, for text(): "light 1 'warm left'" (lights past the list,
     // such as GPU Pro 4's VPLs, and unnamed ones keep their index alone).
     void nameLights(std::vector<std::string> names) { mLightNames = std::move(names); }
+    const std::vector<std::string>& lightNames() const { return mLightNames; }
     std::string text() const;
 
 private:
