@@ -225,7 +225,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if ((!o.dumpAfter.empty() || o.dumpAfterAll) && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
     if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
     if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
-    if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
+    if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = std::filesystem::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
     if (!o.options.empty() && o.scene == "builtin")

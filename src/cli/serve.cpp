@@ -46,6 +46,7 @@ on click, the deferred light steps, and re-rendering with other techniques and o
   --port N      the TCP port (default 8470; 0: any free port)
   --bind ADDR   the address to listen on (default 127.0.0.1, this machine only); anything else
                 lets other machines read the page and start renders
+  --max-rate N  requests per second served, all clients together (default 200; more get 429)
 Every option of `tessera render` that chooses what to draw applies (technique, --option, size,
 MSAA, precision, lights, camera); serve owns --out, --dump, --dump-after, --dump-lights, --probe.
 Ctrl-C stops the server and removes its renders.
@@ -53,25 +54,30 @@ Ctrl-C stops the server and removes its renders.
 
 constexpr int kDefaultPort = 8470;
 constexpr std::size_t kMaxRequestBytes = 64 * 1024;  // a render request is a few hundred bytes
-constexpr double kRatePerSecond = 200.0;             // requests, all clients together
-constexpr double kRateBurst = 400.0;                 // requests accepted at once after a pause
+constexpr std::uint32_t kDefaultRate = 200;          // requests per second, all clients together
+constexpr std::size_t kThreads = 16;                  // connections served at once (a probe holds one)
+constexpr time_t kKeepAliveSeconds = 2;               // an idle kept-alive connection holds a thread this long
 
-// Requests per second, all clients together: a token bucket (a page makes a few per click).
+// Requests per second, all clients together: a token bucket holding two seconds' worth (a page
+// makes a few requests per click; a burst after a pause is fine, a flood is not).
 class RateLimit {
 public:
+    explicit RateLimit(double perSecond) : mPerSecond(perSecond), mTokens(2.0 * perSecond) {}
     bool admit() {
         const std::lock_guard<std::mutex> lock(mMutex);
         const auto now = std::chrono::steady_clock::now();
-        mTokens = std::min(kRateBurst, mTokens + kRatePerSecond * std::chrono::duration<double>(now - mLast).count());
+        mTokens = std::min(2.0 * mPerSecond, mTokens + mPerSecond * std::chrono::duration<double>(now - mLast).count());
         mLast = now;
         if (mTokens < 1.0) return false;
         mTokens -= 1.0;
         return true;
     }
+    double perSecond() const { return mPerSecond; }
 
 private:
     std::mutex mMutex;
-    double mTokens = kRateBurst;
+    double mPerSecond;
+    double mTokens;
     std::chrono::steady_clock::time_point mLast = std::chrono::steady_clock::now();
 };
 
@@ -255,6 +261,7 @@ void addRoutes(httplib::Server& server, ServeJobs& jobs, const std::vector<std::
 
 int serveCommand(const std::vector<std::string_view>& args) {
     int port = kDefaultPort;
+    std::uint32_t maxRate = kDefaultRate;
     std::string bindAddress = "127.0.0.1";
     // The scene first (as `tessera probe` takes it), then render's flags, forwarded as typed.
     std::vector<std::string> base{"default"};
@@ -271,6 +278,7 @@ int serveCommand(const std::vector<std::string_view>& args) {
             return 0;
         }
         if (name == "--port") port = int(parseUint("--port", value(), 0, 65535));
+        else if (name == "--max-rate") maxRate = parseUint("--max-rate", value(), 1, 1000000);
         else if (name == "--bind") bindAddress = std::string(value());
         else if (name == "--out" || name == "-o" || name == "--dump" || name == "--dump-after" || name == "--dump-lights" ||
                  name == "--probe" || name == "--json" || name == "--no-output" || name == "--stats" || name == "--progress")
@@ -316,10 +324,12 @@ int serveCommand(const std::vector<std::string_view>& args) {
     httplib::Server server;
     server.set_payload_max_length(kMaxRequestBytes);
     server.set_read_timeout(10, 0);
-    RateLimit rate;
+    server.set_keep_alive_timeout(kKeepAliveSeconds);
+    server.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
+    RateLimit rate(maxRate);
     server.set_pre_routing_handler([&rate](const httplib::Request&, httplib::Response& res) {
         if (rate.admit()) return httplib::Server::HandlerResponse::Unhandled;
-        sendError(res, 429, "too many requests: at most " + std::to_string(int(kRatePerSecond)) + " per second");
+        sendError(res, 429, "too many requests: at most " + std::to_string(int(rate.perSecond())) + " per second (--max-rate)");
         return httplib::Server::HandlerResponse::Handled;
     });
     server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {

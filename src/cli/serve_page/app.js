@@ -193,6 +193,7 @@ async function selectBuffer(entry) {
   if (!state.fitted) fitView();
   draw();
   drawOverlay();
+  $('viewer').dataset.shown = `${state.pass}/${entry.label}`;  // drawn and laid out (tests wait for it)
 }
 
 function fillChannels() {

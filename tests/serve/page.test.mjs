@@ -1,0 +1,138 @@
+// `tessera serve`'s page in Debian's Chromium (puppeteer-core): it loads with no console error;
+// clicking a lit pixel shows a history naming the draws and lights `tessera probe` names for that
+// pixel; the deferred light slider changes the stencil picture; flipping an erratum's option and
+// re-rendering changes the image. Screenshots are kept in ARTEFACT_DIR.
+// Usage: node page.test.mjs TESSERA_BINARY ARTEFACT_DIR
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import { createHash } from 'node:crypto';
+import { existsSync, mkdirSync } from 'node:fs';
+import { join } from 'node:path';
+import puppeteer from 'puppeteer-core';
+import { startServe, request } from './serve_process.mjs';
+
+const [tessera, artefacts] = process.argv.slice(2);
+assert.ok(tessera && existsSync(tessera) && artefacts, 'usage: node page.test.mjs TESSERA_BINARY ARTEFACT_DIR');
+mkdirSync(artefacts, { recursive: true });
+const chromium = '/usr/bin/chromium';
+assert.ok(existsSync(chromium), 'Debian chromium is not installed (scripts/install-deps.sh installs it)');
+
+const scene = ['default', '--technique', 'deferred', '--width', '320', '--height', '180'];
+const pixel = [160, 100];  // lit by three of the default scene's four lights (the probe says which)
+
+// What `tessera probe` says of the pixel: the draws that shaded it and the lights that added light.
+function probeFacts() {
+  const r = spawnSync(tessera, ['probe', scene[0], String(pixel[0]), String(pixel[1]), ...scene.slice(1), '--json'], { encoding: 'utf8', timeout: 120000 });
+  assert.equal(r.status, 0, r.stderr);
+  const history = JSON.parse(r.stdout);
+  const draws = new Set(), lights = new Set();
+  for (const e of history.events) {
+    if (e.draw === undefined) continue;
+    draws.add(String(e.draw));
+    for (const t of e.lights || []) if (!t.none) lights.add(String(t.light));
+  }
+  return { draws, lights, names: history.lightNames };
+}
+
+test('the page in Chromium', async (t) => {
+  const expected = probeFacts();
+  assert.ok(expected.draws.size >= 2 && expected.lights.size >= 2, 'the chosen pixel is lit (the test needs draws and lights to compare)');
+  const serve = await startServe(tessera, scene);
+  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
+  const problems = [];
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1500, height: 1100 });
+    page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`); });
+    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    page.on('requestfailed', (r) => problems.push(`request failed: ${r.url()} ${r.failure() && r.failure().errorText}`));
+    page.on('response', (r) => { if (r.status() >= 400) problems.push(`HTTP ${r.status()}: ${r.url()}`); });
+    await page.goto(serve.url);
+    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+    await page.screenshot({ path: join(artefacts, 'serve-loaded.png'), fullPage: true });
+
+    await t.test('the passes are listed with times and the buffers after each', async () => {
+      const passes = await page.$$eval('#passList li', (lis) => lis.map((li) => li.dataset.pass));
+      const manifest = (await request(serve.url, '/api/render/1')).json.manifest;
+      assert.deepEqual(passes, manifest.passes.map((p) => p.name));
+      await page.click('#passList li[data-pass="gbuffer"]');
+      await page.waitForSelector('#bufferTabs button[data-buffer="gbuffer.normal"]');
+      await page.click('#bufferTabs button[data-buffer="depth"]');
+      await page.waitForSelector('#viewer[data-shown="gbuffer/depth"]');
+      const ticks = await page.$eval('#colourBar', (c) => c.dataset.ticks);
+      assert.equal(ticks, '5', 'the colour bar has labelled ticks');
+    });
+
+    await t.test('hovering a texel decodes it by format', async () => {
+      const where = await page.$eval('#overlay', (c) => ({ ...c.dataset, rect: c.getBoundingClientRect().toJSON() }));
+      const at = (x, y) => [where.rect.left + Number(where.panX) + (x + 0.5) * Number(where.zoom), where.rect.top + Number(where.panY) + (y + 0.5) * Number(where.zoom)];
+      await page.mouse.move(...at(...pixel));
+      const text = await page.$eval('#hover', (e) => e.textContent);
+      assert.match(text, /\(160, 100\) depth D24_UNORM_S8_UINT/);
+      assert.match(text, /D24 code \d+ of 16777215/);
+      assert.match(text, /stencil \d+ = 0b[01]{8}/);
+    });
+
+    await t.test('clicking a lit pixel shows the draws and lights tessera probe names', async () => {
+      await page.click('#passList li[data-pass="transparent"]');
+      await page.waitForSelector('#viewer[data-shown="transparent/depth"]');
+      const where = await page.$eval('#overlay', (c) => ({ ...c.dataset, rect: c.getBoundingClientRect().toJSON() }));
+      await page.mouse.click(where.rect.left + Number(where.panX) + (pixel[0] + 0.5) * Number(where.zoom),
+                             where.rect.top + Number(where.panY) + (pixel[1] + 0.5) * Number(where.zoom));
+      await page.waitForSelector(`#historyBody[data-pixel="${pixel.join(',')}"]`, { timeout: 120000 });
+      const shown = await page.evaluate(() => ({
+        draws: [...document.querySelectorAll('#historyBody [data-draw]')].map((e) => e.dataset.draw),
+        lights: [...document.querySelectorAll('#historyBody [data-light]:not(.nothing)')].map((e) => e.dataset.light),
+        text: document.querySelector('#historyBody').textContent,
+      }));
+      assert.deepEqual(new Set(shown.draws), expected.draws, 'the same draws as tessera probe');
+      assert.deepEqual(new Set(shown.lights), expected.lights, 'the same lights adding light as tessera probe');
+      for (const light of expected.lights) assert.ok(shown.text.includes(`light ${light} '${expected.names[Number(light)]}'`), `light ${light} named`);
+      await page.screenshot({ path: join(artefacts, 'serve-history.png'), fullPage: true });
+    });
+
+    await t.test('the deferred light slider changes the stencil picture', async () => {
+      const stencilOf = () => page.$eval('#lightPictures', (box) => {
+        const img = box.querySelector('img[data-step-file*="unmark"]');
+        return { light: box.dataset.light, file: img && img.dataset.stepFile, loaded: img && img.complete && img.naturalWidth > 0 };
+      });
+      await page.waitForFunction(() => { const i = document.querySelector('#lightPictures img'); return i && i.complete && i.naturalWidth > 0; });
+      const first = await stencilOf();
+      assert.ok(first.file, `the default light ${first.light} shows its stencil after unmark`);
+      const steps = (await request(serve.url, '/api/render/1')).json.manifest.lightSteps;
+      const other = Object.keys(steps).find((l) => l !== first.light && steps[l].unmark);
+      await page.$eval('#lightSlider', (s, v) => { s.value = v; s.dispatchEvent(new Event('input')); }, other);
+      await page.waitForFunction((v) => document.querySelector('#lightPictures').dataset.light === v, {}, other);
+      await page.waitForFunction(() => { const i = document.querySelector('#lightPictures img'); return i && i.complete && i.naturalWidth > 0; });
+      const second = await stencilOf();
+      assert.ok(second.file && second.file !== first.file, 'another light, another stencil file');
+      const bytes = async (file) => (await fetch(new URL(`/api/files/1/${file.split('/').map(encodeURIComponent).join('/')}`, serve.url))).arrayBuffer();
+      const [a, b] = await Promise.all([bytes(first.file), bytes(second.file)]);
+      assert.ok(!Buffer.from(a).equals(Buffer.from(b)), 'the two stencil pictures differ');
+      const changed = await page.$eval('#lightPictures canvas', (c) => Number(c.dataset.changed));
+      assert.ok(changed > 0, 'the light changed some pixels');
+    });
+
+    await t.test('flipping an erratum and re-rendering changes the image', async () => {
+      // reconstruct (ERRATA.md #3): the 3dgep demo reconstructs position from the pixel's corner.
+      const corrected = await page.$eval('select[data-option="reconstruct"]', (s) => [...s.options].find((o) => o.textContent.includes('(corrected)')).value);
+      await page.select('select[data-option="reconstruct"]', corrected);
+      await page.click('#render');
+      await page.waitForSelector('body[data-render="2"]', { timeout: 240000 });
+      const r2 = (await request(serve.url, '/api/render/2')).json;
+      assert.equal(r2.manifest.options.reconstruct, corrected);
+      const image = async (id) => createHash('sha256').update(Buffer.from(await (await fetch(new URL(`/api/texels/${id}/backbuffer.png`, serve.url))).arrayBuffer())).digest('hex');
+      assert.notEqual(await image(1), await image(2), 'the corrected reconstruction changes the image');
+      await page.screenshot({ path: join(artefacts, 'serve-corrected.png'), fullPage: true });
+    });
+
+    await t.test('no console error, failed request or error response', () => {
+      assert.deepEqual(problems, []);
+    });
+  } finally {
+    await browser.close();
+    const end = await serve.stop();
+    assert.equal(end.code, 0, end.stderr);
+  }
+});
