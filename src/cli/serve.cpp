@@ -244,6 +244,28 @@ void addRoutes(httplib::Server& server, ServeJobs& jobs, const std::vector<std::
         if (!r->files.count(file)) return sendError(res, 404, "render " + std::to_string(r->id) + " wrote no file '" + file + "'");
         sendTexels(r->folder / "dump" / file, res);
     });
+    // Two renders' back buffers compared: tessera diff's statistics, and its heat map beside.
+    server.Get(R"(/api/diff/([^/]+)/([^/]+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
+        const auto a = requireRender(jobs, req.matches[1], res);
+        if (!a) return;
+        const auto b = requireRender(jobs, req.matches[2], res);
+        if (!b) return;
+        const ChildResult diff = jobs.diff(*a, *b);
+        if (diff.exitCode != 0) return sendError(res, diff.exitCode == 2 ? 400 : 500, diff.err);
+        nlohmann::json j = nlohmann::json::parse(diff.out, nullptr, false);
+        if (j.is_discarded()) return sendError(res, 500, "tessera diff printed no JSON");
+        j["heatmap"] = "/api/diffmap/" + std::to_string(a->id) + "/" + std::to_string(b->id);
+        j.erase("a");  // the server's own paths
+        j.erase("b");
+        sendJson(res, j);
+    });
+    server.Get(R"(/api/diffmap/([0-9]+)/([0-9]+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
+        const auto a = parseId(req.matches[1], ~std::uint64_t(0)), b = parseId(req.matches[2], ~std::uint64_t(0));
+        std::ifstream in(a && b ? jobs.diffHeatmap(*a, *b) : fs::path(), std::ios::binary);
+        if (!a || !b || !in) return sendError(res, 404, "no comparison of renders " + std::string(req.matches[1]) + " and " + std::string(req.matches[2]) + " (GET /api/diff/A/B first)");
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        res.set_content(bytes, "image/png");
+    });
     server.Get(R"(/api/probe/([^/]+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
         const auto r = requireRender(jobs, req.matches[1], res);
         if (!r) return;

@@ -355,4 +355,21 @@ ChildResult ServeJobs::probe(const ServeRender& render, std::uint32_t x, std::ui
     return result;
 }
 
+fs::path ServeJobs::diffHeatmap(std::uint64_t a, std::uint64_t b) const {
+    return mWork / ("diff-" + std::to_string(a) + "-" + std::to_string(b) + ".png");
+}
+
+ChildResult ServeJobs::diff(const ServeRender& a, const ServeRender& b) {
+    const std::lock_guard<std::mutex> lock(mDiffMutex);
+    const std::vector<std::string> argv{"diff", (a.folder / "dump" / "backbuffer.png").string(), (b.folder / "dump" / "backbuffer.png").string(),
+                                        "--json", "--heatmap", diffHeatmap(a.id, b.id).string()};
+    const fs::path out = mWork / "diff.out", err = mWork / "diff.err";
+    ChildResult result = runChild(mExe, argv, out, err, nullptr);
+    std::error_code ec;
+    fs::remove(out, ec);
+    fs::remove(err, ec);
+    result.err = errorLines(result.err);
+    return result;
+}
+
 } // namespace tessera::cli

@@ -70,6 +70,10 @@ public:
     // `tessera probe SCENE X Y ... --json` with the render's arguments: the history's JSON text,
     // or the child's error (ChildResult::exitCode != 0). Probes run one at a time.
     ChildResult probe(const ServeRender& render, std::uint32_t x, std::uint32_t y);
+    // `tessera diff A B --json --heatmap FILE` of two renders' back buffers (diffs run one at a
+    // time, beside the probes): the statistics' JSON text; the heat map is diffHeatmap(a, b).
+    ChildResult diff(const ServeRender& a, const ServeRender& b);
+    std::filesystem::path diffHeatmap(std::uint64_t a, std::uint64_t b) const;
     // Ends the running child and the worker thread (no new renders start).
     void stop();
 
@@ -85,7 +89,7 @@ private:
     std::uint64_t mRunningId = 0, mLatestDoneId = 0, mNextId = 1;
     std::atomic<bool> mCancelRunning{false};
     bool mStopping = false;
-    std::mutex mProbeMutex;
+    std::mutex mProbeMutex, mDiffMutex;
     std::uint64_t mProbeCount = 0;
     std::thread mThread;
 };

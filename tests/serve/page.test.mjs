@@ -1,13 +1,14 @@
 // `tessera serve`'s page in Debian's Chromium (puppeteer-core): it loads with no console error;
 // clicking a lit pixel shows a history naming the draws and lights `tessera probe` names for that
 // pixel; the deferred light slider changes the stencil picture; flipping an erratum's option and
-// re-rendering changes the image. Screenshots are kept in ARTEFACT_DIR.
+// re-rendering changes the image, and the comparison shows tessera diff's count and the erratum.
+// Screenshots are kept in ARTEFACT_DIR.
 // Usage: node page.test.mjs TESSERA_BINARY ARTEFACT_DIR
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
 import { createHash } from 'node:crypto';
-import { existsSync, mkdirSync } from 'node:fs';
+import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import puppeteer from 'puppeteer-core';
 import { startServe, request } from './serve_process.mjs';
@@ -124,6 +125,25 @@ test('the page in Chromium', async (t) => {
       assert.equal(r2.manifest.options.reconstruct, corrected);
       const image = async (id) => createHash('sha256').update(Buffer.from(await (await fetch(new URL(`/api/texels/${id}/backbuffer.png`, serve.url))).arrayBuffer())).digest('hex');
       assert.notEqual(await image(1), await image(2), 'the corrected reconstruction changes the image');
+      // The comparison lists both renders; tessera diff's figures, heat map and erratum #3's row.
+      await page.waitForFunction(() => document.querySelector('#compareA').options.length >= 2);
+      await page.select('#compareA', '1');
+      await page.select('#compareB', '2');
+      await page.click('#compareRun');
+      await page.waitForSelector('#compareBody[data-pair="1-2"]', { timeout: 120000 });
+      const shown = await page.$eval('#compareBody', (b) => ({
+        differing: Number(b.dataset.differing), errata: [...b.querySelectorAll('[data-erratum]')].map((e) => e.dataset.erratum),
+        text: b.textContent,
+      }));
+      for (const id of [1, 2])
+        writeFileSync(join(artefacts, `render-${id}.png`), Buffer.from(await (await fetch(new URL(`/api/files/${id}/backbuffer.png`, serve.url))).arrayBuffer()));
+      const direct = spawnSync(tessera, ['diff', '--json', join(artefacts, 'render-1.png'), join(artefacts, 'render-2.png')], { encoding: 'utf8' });
+      assert.equal(direct.status, 0, direct.stderr);
+      assert.ok(shown.differing > 0, 'the diff counts differing pixels');
+      assert.equal(shown.differing, JSON.parse(direct.stdout).differing_pixels, 'as tessera diff counts them');
+      assert.deepEqual(shown.errata, ['3'], 'the erratum the two renders differ in');
+      assert.match(shown.text, /int2\(SV_Position\.xy\)/, "ERRATA.md #3's text");
+      await page.waitForFunction(() => { const i = document.querySelector('#diffHeatmap'); return i && i.complete && i.naturalWidth > 0; });
       await page.screenshot({ path: join(artefacts, 'serve-corrected.png'), fullPage: true });
     });
 

@@ -161,6 +161,15 @@ test('the server', async (t) => {
     const texels = await request(base, `/api/texels/${fastId}/backbuffer.png`);
     assert.equal(texels.headers.get('x-width'), '96');
     assert.equal((await request(base, '/api/texels/1/backbuffer.png')).headers.get('x-width'), '160', 'the first render still reads as itself');
+    // Renders of different sizes cannot be compared: 400 with tessera diff's message naming both.
+    const diff = await request(base, `/api/diff/1/${fastId}`);
+    assert.equal(diff.status, 400, diff.text);
+    assert.match(diff.json.error, /160x90.*96x54|96x54.*160x90|size/);
+    const same = await request(base, '/api/diff/1/1');
+    assert.equal(same.status, 200, same.text);
+    assert.equal(same.json.differing_pixels, 0);
+    assert.equal((await request(base, same.json.heatmap)).status, 200, 'the heat map is served');
+    assert.equal((await request(base, '/api/diffmap/1/77')).status, 404);
   });
 
   await t.test('cancel stops the running render', async () => {

@@ -74,11 +74,22 @@ function fillOptions(id, current) {
   }
 }
 
+// The option keys the server's command line sets (--option KEY=VALUE in its first render's arguments).
+function commandLineOptions() {
+  const keys = new Set();
+  const args = state.firstArgs || [];
+  for (let i = 0; i + 1 < args.length; ++i) if (args[i] === '--option') keys.add(args[i + 1].split('=')[0]);
+  return keys;
+}
+
 async function submitRender(event) {
   event.preventDefault();
   const options = {};
   for (const s of document.querySelectorAll('[data-option]')) {
     const o = (state.techniques.find((t) => t.id === $('technique').value) || { options: [] }).options.find((x) => x.key === s.dataset.option);
+    // The default is left out (requests and their labels stay short), unless the server's own
+    // command line set the option otherwise.
+    if (o && s.value === o.faithful && !commandLineOptions().has(o.key)) continue;
     options[s.dataset.option] = o && (o.kind === 'bool' || o.kind === 'integer') ? JSON.parse(s.value) : s.value;
   }
   const body = {
@@ -133,6 +144,7 @@ async function loadRender(id) {
   $('historyBody').replaceChildren();
   await selectPass(last);
   setupLightSteps();
+  await fillCompareLists();
 }
 
 // The buffers as they stood after `pass` (the dump's after-<pass>/ folder).
@@ -547,6 +559,103 @@ async function showLight(light) {
   }
 }
 
+// ---- compare two renders ----------------------------------------------------------------------
+
+let errata = null;  // ERRATA.md's table rows by number (the server embeds the file)
+async function erratumText(number) {
+  if (!errata) {
+    errata = {};
+    const text = await (await fetch('/ERRATA.md')).text();
+    for (const line of text.split('\n')) {
+      const m = /^\| (\d+) \| (.*?) \| (.*?) \| (.*?) \| (.*?) \|$/.exec(line);
+      if (m) errata[m[1]] = { text: m[2], faithful: m[3], correction: m[4], test: m[5] };
+    }
+  }
+  return errata[String(number)];
+}
+const plain = (markdown) => markdown.replace(/\*\*|`/g, '');
+
+async function fillCompareLists() {
+  const status = await api('/api/status');
+  const done = status.renders.filter((r) => r.status === 'done');
+  for (const [id, pick] of [['compareA', done.length > 1 ? done[done.length - 2].id : null], ['compareB', state.render.id]]) {
+    const select = $(id);
+    select.replaceChildren(...done.map((r) => el('option', { value: String(r.id) }, `#${r.id}: ${r.args.slice(1).join(' ') || r.args[0]}`)));
+    if (pick !== null) select.value = String(pick);
+  }
+  const t = technique();
+  const current = state.render.manifest.options || {};
+  $('erratumPick').replaceChildren(...t.options.filter((o) => o.erratum && o.corrected && String(current[o.key] ?? o.faithful) !== o.corrected)
+    .map((o) => el('option', { value: o.key }, `#${o.erratum} ${o.key}: ${o.faithful} -> ${o.corrected}`)));
+  $('erratumRun').disabled = $('erratumPick').options.length === 0;
+}
+
+// tessera diff of two renders' back buffers: both pictures, the heat map, the statistics, and
+// the ERRATA.md rows of the options in which the two renders differ.
+async function compare(a, b) {
+  const box = $('compareBody');
+  box.replaceChildren(el('p', {}, `comparing #${a} with #${b}...`));
+  try {
+    const [d, ra, rb] = await Promise.all([api(`/api/diff/${a}/${b}`), api(`/api/render/${a}`), api(`/api/render/${b}`)]);
+    box.replaceChildren();
+    for (const [r, caption] of [[ra, `#${a}`], [rb, `#${b}`]]) {
+      const fig = el('figure');
+      fig.append(el('img', { src: `/api/files/${r.id}/backbuffer.png`, alt: caption }), el('figcaption', {}, `${caption}: ${r.manifest.technique} ${r.manifest.width}x${r.manifest.height}`));
+      box.append(fig);
+    }
+    const heat = el('figure');
+    heat.append(el('img', { src: d.heatmap, alt: 'difference heat map', id: 'diffHeatmap' }),
+      el('figcaption', {}, `each pixel's largest channel difference: black equal, then blue, green, yellow, white = max abs ${num(d.max_abs)}`));
+    box.append(heat);
+    const table = el('table', { id: 'diffStats' });
+    for (const [k, v] of [['max abs', d.max_abs], ['mean abs', d.mean_abs], ['rmse', d.rmse], ['psnr dB', d.psnr_db === null ? 'inf (equal)' : d.psnr_db],
+      ['differing pixels', `${d.differing_pixels} of ${d.pixels}`]]) {
+      const tr = el('tr');
+      tr.append(el('td', {}, k), el('td', {}, typeof v === 'number' ? num(v) : String(v)));
+      table.append(tr);
+    }
+    box.append(table);
+    const options = state.techniques.find((t) => t.id === rb.manifest.technique) || { options: [] };
+    const oa = ra.manifest.options || {}, ob = rb.manifest.options || {};
+    for (const o of options.options) {
+      const va = String(oa[o.key] ?? o.faithful), vb = String(ob[o.key] ?? o.faithful);
+      if (va === vb || !o.erratum || ra.manifest.technique !== rb.manifest.technique) continue;
+      const row = await erratumText(o.erratum);
+      const div = el('div', { class: 'erratum', 'data-erratum': String(o.erratum) });
+      div.append(el('div', { class: 'title' }, `${o.key}: ${va} in #${a}, ${vb} in #${b} — ERRATA.md #${o.erratum}`));
+      if (row) div.append(el('div', {}, plain(row.text)), el('div', { class: 'nothing' }, `shown by the test ${plain(row.test)}`));
+      box.append(div);
+    }
+    box.dataset.differing = String(d.differing_pixels);
+    box.dataset.pair = `${a}-${b}`;  // complete (tests wait for it)
+  } catch (e) {
+    box.replaceChildren(el('p', {}, e.message));
+  }
+}
+
+// Re-renders the current frame with one erratum's option corrected, then compares the two.
+async function renderCorrected() {
+  const key = $('erratumPick').value;
+  const t = technique();
+  const o = t.options.find((x) => x.key === key);
+  const before = state.render.id;
+  const m = state.render.manifest;
+  const options = {};
+  for (const x of t.options) {
+    const value = (m.options || {})[x.key];
+    if (value !== undefined && (String(value) !== x.faithful || commandLineOptions().has(x.key))) options[x.key] = value;
+  }
+  options[key] = o.kind === 'bool' || o.kind === 'integer' ? JSON.parse(o.corrected) : o.corrected;
+  const body = { technique: m.technique, width: m.width, height: m.height, msaa: m.msaa || 1, precision: m.precision || 'exact', options };
+  try {
+    const { id } = await api('/api/render', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+    await waitFor(id);
+    if (state.render.id === id) await compare(before, id);
+  } catch (e) {
+    setStatus(e.message, true);
+  }
+}
+
 // ---- wiring -----------------------------------------------------------------------------------
 
 function wire() {
@@ -563,6 +672,8 @@ function wire() {
   $('srgb').addEventListener('change', draw);
   $('zoomFit').addEventListener('click', () => { fitView(); paint(); });
   $('lightSlider').addEventListener('input', () => showLight(Number($('lightSlider').value)));
+  $('compareRun').addEventListener('click', () => compare(Number($('compareA').value), Number($('compareB').value)));
+  $('erratumRun').addEventListener('click', renderCorrected);
   const overlay = $('overlay');
   let drag = null;
   overlay.addEventListener('mousedown', (e) => { drag = { x: e.clientX, y: e.clientY, panX: state.panX, panY: state.panY, moved: false }; });
@@ -599,6 +710,7 @@ async function main() {
     state.techniques = await api('/api/techniques');
     const status = await api('/api/status');
     if (!status.latestDone) throw new Error('the server has no finished render yet');
+    state.firstArgs = status.renders.length ? status.renders[0].args : [];
     await loadRender(status.latestDone);
     document.body.dataset.ready = 'true';
   } catch (e) {
