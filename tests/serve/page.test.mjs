@@ -156,3 +156,48 @@ test('the page in Chromium', async (t) => {
     assert.equal(end.code, 0, end.stderr);
   }
 });
+
+test('tiles: light counts over the image and a tile\'s list and 2.5D mask (forward-plus-amd)', async () => {
+  const args = ['default', '--technique', 'forward-plus-amd', '--width', '160', '--height', '96'];
+  const serve = await startServe(tessera, args);
+  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
+  const problems = [];
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1500, height: 1100 });
+    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+    await page.goto(serve.url);
+    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+    const manifest = (await request(serve.url, '/api/render/1')).json.manifest;
+    const grid = manifest.buffers.find((b) => b.name === 'lightgrid.opaque');
+    assert.ok(grid, 'forward-plus-amd writes lightgrid.opaque');
+    // The largest count of the grid, from its raw texels: (offset, count) uint32 pairs.
+    const raw = await fetch(new URL(`/api/texels/1/${grid.file}`, serve.url));
+    const counts = new Uint32Array(await raw.arrayBuffer()).filter((_, i) => i % 2 === 1);
+    const max = Math.max(...counts);
+    await page.select('#tileGrid', 'lightgrid.opaque');
+    await page.click('#tiles');
+    await page.waitForFunction(() => !document.querySelector('#tileBar').hidden);
+    assert.equal(await page.$eval('#tileBar', (c) => c.dataset.max), String(max), 'the scale runs to the largest count');
+    // A pixel's tile: the history's tile block names the probe's tile and the mask's texel.
+    const pixel = [80, 50];
+    const r = spawnSync(tessera, ['probe', args[0], ...pixel.map(String), ...args.slice(1), '--json'], { encoding: 'utf8', timeout: 120000 });
+    const tile = JSON.parse(r.stdout).tile;
+    const where = await page.$eval('#overlay', (c) => ({ ...c.dataset, rect: c.getBoundingClientRect().toJSON() }));
+    await page.mouse.click(where.rect.left + Number(where.panX) + (pixel[0] + 0.5) * Number(where.zoom),
+                           where.rect.top + Number(where.panY) + (pixel[1] + 0.5) * Number(where.zoom));
+    await page.waitForSelector('#historyBody [data-tile] [data-mask]', { timeout: 120000 });
+    const shown = await page.$eval('#historyBody [data-tile]', (d) => ({ tile: d.dataset.tile, mask: d.querySelector('[data-mask]').dataset.mask, text: d.textContent }));
+    assert.equal(shown.tile, tile.tile.join(','));
+    for (const light of tile.lights) assert.match(shown.text, new RegExp(`light ${light}\\b`));
+    const maskBuffer = manifest.buffers.find((b) => b.name.endsWith('depthMask'));
+    const masks = new Uint32Array(await (await fetch(new URL(`/api/texels/1/${maskBuffer.file}`, serve.url))).arrayBuffer());
+    assert.equal(shown.mask, String(masks[tile.tile[1] * maskBuffer.width + tile.tile[0]]), "the tile's 2.5D mask");
+    await page.screenshot({ path: join(artefacts, 'serve-tiles.png'), fullPage: true });
+    assert.deepEqual(problems, []);
+  } finally {
+    await browser.close();
+    assert.equal((await serve.stop()).code, 0);
+  }
+});

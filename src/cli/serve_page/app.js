@@ -54,6 +54,9 @@ function fillControls() {
   fillOptions(m.technique, m.options || {});
 }
 
+// An option's faithful default as one of its values (the catalogue may say more: "d3d (shading 3dgep: demo-gl)").
+const faithfulValue = (o) => (o.values.includes(o.faithful) ? o.faithful : o.values.find((v) => o.faithful.startsWith(v)) || o.faithful);
+
 // One select per option of the technique's catalogue, faithful and corrected values marked.
 function fillOptions(id, current) {
   const t = state.techniques.find((x) => x.id === id);
@@ -64,11 +67,11 @@ function fillOptions(id, current) {
     const label = el('label', { title: o.meaning + (o.erratum ? ` (ERRATA.md #${o.erratum})` : '') }, o.key + (o.erratum ? ` #${o.erratum} ` : ' '));
     const s = el('select', { 'data-option': o.key });
     for (const v of o.values) {
-      const mark = v === o.faithful ? ' (faithful)' : v === o.corrected ? ' (corrected)' : '';
+      const mark = v === faithfulValue(o) ? ' (faithful)' : v === o.corrected ? ' (corrected)' : '';
       s.append(el('option', { value: v }, v + mark));
     }
-    const value = current[o.key] !== undefined ? String(current[o.key]) : o.faithful;
-    s.value = o.values.includes(value) ? value : o.faithful;
+    const value = current[o.key] !== undefined ? String(current[o.key]) : faithfulValue(o);
+    s.value = o.values.includes(value) ? value : faithfulValue(o);
     label.append(s);
     box.append(label);
   }
@@ -89,7 +92,7 @@ async function submitRender(event) {
     const o = (state.techniques.find((t) => t.id === $('technique').value) || { options: [] }).options.find((x) => x.key === s.dataset.option);
     // The default is left out (requests and their labels stay short), unless the server's own
     // command line set the option otherwise.
-    if (o && s.value === o.faithful && !commandLineOptions().has(o.key)) continue;
+    if (o && s.value === faithfulValue(o) && !commandLineOptions().has(o.key)) continue;
     options[s.dataset.option] = o && (o.kind === 'bool' || o.kind === 'integer') ? JSON.parse(s.value) : s.value;
   }
   const body = {
@@ -144,6 +147,7 @@ async function loadRender(id) {
   $('historyBody').replaceChildren();
   await selectPass(last);
   setupLightSteps();
+  await setupTiles();
   await fillCompareLists();
 }
 
@@ -369,6 +373,7 @@ function decodeTexel(x, y) {
   } else if (texels.type === 'uint32') {
     if (b.name.startsWith('lightgrid')) text += `offset ${raw[0]}, count ${raw[1]} (the tile's list in the light index list)`;
     else if (b.name.startsWith('lightindex')) text += `light ${raw[0]}`;
+    else if (b.name.endsWith('depthMask')) text += `2.5D depth mask ${maskBits(raw[0])} (GPU Pro 4 §5.6.1: ${popCount(raw[0])} of 32 depth cells hold geometry)`;
     else text += `uint ${raw.join(', ')}`;
   } else if (texels.type === 'uint8') {
     text += `codes ${raw.join(', ')} = ${raw.map((v) => num(v / 255)).join(', ')}`;
@@ -380,6 +385,64 @@ function decodeTexel(x, y) {
     text += `float ${raw.map((v) => num(v)).join(', ')}`;
   }
   return text;
+}
+
+const maskBits = (v) => `0b${(v >>> 0).toString(2).padStart(32, '0')}`;
+const popCount = (v) => { let n = 0; for (let x = v >>> 0; x; x >>>= 1) n += x & 1; return n; };
+
+// ---- tile light counts over the image (the tiled techniques' light grids) ---------------------
+
+// The final light grids of the render (lightgrid.*: (offset, count) per tile) and the tile size.
+function lightGrids() {
+  return state.render.manifest.buffers.filter((b) => b.name.startsWith('lightgrid') && b.format.includes('UINT'));
+}
+
+async function setupTiles() {
+  const grids = lightGrids();
+  $('tileToggle').hidden = grids.length === 0;
+  $('tiles').checked = false;
+  $('tileBar').hidden = true;
+  state.tileCounts = null;
+  $('tileGrid').replaceChildren(...grids.map((b) => el('option', { value: b.name }, b.name)));
+}
+
+async function loadTileCounts() {
+  const name = $('tileGrid').value;
+  const b = lightGrids().find((x) => x.name === name);
+  if (!$('tiles').checked || !b) { state.tileCounts = null; $('tileBar').hidden = true; drawOverlay(); return; }
+  const texels = await fetchTexels(b.file);
+  const width = state.render.manifest.width;
+  const tileSizePx = Math.ceil(width / texels.width);
+  let max = 0;
+  for (let i = 0; i < texels.width * texels.height; ++i) max = Math.max(max, texels.data[i * texels.channels + 1]);
+  state.tileCounts = { texels, tileSizePx, max };
+  drawTileBar();
+  drawOverlay();
+}
+
+// The tile overlay's scale: the heat ramp from 0 to the largest count, integer ticks.
+function drawTileBar() {
+  const canvas = $('tileBar');
+  canvas.hidden = false;
+  canvas.width = canvas.clientWidth || 600;
+  const ctx = canvas.getContext('2d');
+  const { max } = state.tileCounts;
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  for (let x = 0; x < canvas.width; ++x) {
+    const [r, g, b] = heat(x / (canvas.width - 1));
+    ctx.fillStyle = `rgb(${r},${g},${b})`;
+    ctx.fillRect(x, 0, 1, 16);
+  }
+  ctx.fillStyle = '#d8dbe0';
+  ctx.font = '11px system-ui';
+  const ticks = Math.min(max, 4);
+  for (let k = 0; k <= ticks; ++k) {
+    const x = Math.round((canvas.width - 1) * (ticks ? k / ticks : 0));
+    ctx.fillRect(x, 14, 1, 5);
+    ctx.textAlign = k === 0 ? 'left' : k === ticks ? 'right' : 'center';
+    ctx.fillText(`${Math.round(max * (ticks ? k / ticks : 0))}${k === ticks ? ' lights in the tile' : ''}`, x, 31);
+  }
+  canvas.dataset.max = String(max);
 }
 
 function pixelAt(event) {
@@ -395,6 +458,19 @@ function drawOverlay() {
   const canvas = $('overlay');
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (state.tileCounts) {
+    const { texels, tileSizePx, max } = state.tileCounts;
+    const s = tileSizePx * state.zoom;
+    ctx.globalAlpha = 0.5;
+    for (let ty = 0; ty < texels.height; ++ty)
+      for (let tx = 0; tx < texels.width; ++tx) {
+        const count = texels.data[(ty * texels.width + tx) * texels.channels + 1];
+        const [r, g, b] = heat(max ? count / max : 0);
+        ctx.fillStyle = `rgb(${r},${g},${b})`;
+        ctx.fillRect(state.panX + tx * s, state.panY + ty * s, s, s);
+      }
+    ctx.globalAlpha = 1;
+  }
   if (!state.picked) return;
   const [x, y] = state.picked;
   const tile = state.probe && state.probe.tile;
@@ -465,7 +541,13 @@ async function probe(x, y) {
       div.append(el('div', { class: 'mono' }, `lights ${t.lights.map((i) => lightLabel(names, i)).join(', ')}`));
       if (t.culled !== undefined) div.append(el('div', { class: 'mono' }, `${t.culled} of the scene's lights culled from this tile`));
       for (const p of t.frustumPlanes || []) div.append(el('div', { class: 'mono' }, `plane ${vec(p)}`));
-      if (t.depthRange) div.append(el('div', { class: 'mono' }, `depth range ${vec(t.depthRange)}`));
+      if (t.depthRange) div.append(el('div', { class: 'mono' }, `depth range ${vec(t.depthRange)} (view-space distance)`));
+      const maskBuffer = state.render.manifest.buffers.find((b) => b.name.endsWith('depthMask'));
+      if (maskBuffer) {
+        const mask = await fetchTexels(maskBuffer.file);
+        const v = mask.data[(t.tile[1] * mask.width + t.tile[0]) * mask.channels];
+        div.append(el('div', { class: 'mono', 'data-mask': String(v) }, `2.5D depth mask ${maskBits(v)}: ${popCount(v)} of 32 cells hold geometry (GPU Pro 4 §5.6.1)`));
+      }
       body.append(div);
     }
     $('historyHint').textContent = `Pixel (${x}, ${y}) through the frame, in pass and draw order:`;
@@ -585,8 +667,8 @@ async function fillCompareLists() {
   }
   const t = technique();
   const current = state.render.manifest.options || {};
-  $('erratumPick').replaceChildren(...t.options.filter((o) => o.erratum && o.corrected && String(current[o.key] ?? o.faithful) !== o.corrected)
-    .map((o) => el('option', { value: o.key }, `#${o.erratum} ${o.key}: ${o.faithful} -> ${o.corrected}`)));
+  $('erratumPick').replaceChildren(...t.options.filter((o) => o.erratum && o.corrected && String(current[o.key] ?? faithfulValue(o)) !== o.corrected)
+    .map((o) => el('option', { value: o.key }, `#${o.erratum} ${o.key}: ${faithfulValue(o)} -> ${o.corrected}`)));
   $('erratumRun').disabled = $('erratumPick').options.length === 0;
 }
 
@@ -618,7 +700,7 @@ async function compare(a, b) {
     const options = state.techniques.find((t) => t.id === rb.manifest.technique) || { options: [] };
     const oa = ra.manifest.options || {}, ob = rb.manifest.options || {};
     for (const o of options.options) {
-      const va = String(oa[o.key] ?? o.faithful), vb = String(ob[o.key] ?? o.faithful);
+      const va = String(oa[o.key] ?? faithfulValue(o)), vb = String(ob[o.key] ?? faithfulValue(o));
       if (va === vb || !o.erratum || ra.manifest.technique !== rb.manifest.technique) continue;
       const row = await erratumText(o.erratum);
       const div = el('div', { class: 'erratum', 'data-erratum': String(o.erratum) });
@@ -643,7 +725,7 @@ async function renderCorrected() {
   const options = {};
   for (const x of t.options) {
     const value = (m.options || {})[x.key];
-    if (value !== undefined && (String(value) !== x.faithful || commandLineOptions().has(x.key))) options[x.key] = value;
+    if (value !== undefined && (String(value) !== faithfulValue(x) || commandLineOptions().has(x.key))) options[x.key] = value;
   }
   options[key] = o.kind === 'bool' || o.kind === 'integer' ? JSON.parse(o.corrected) : o.corrected;
   const body = { technique: m.technique, width: m.width, height: m.height, msaa: m.msaa || 1, precision: m.precision || 'exact', options };
@@ -671,6 +753,8 @@ function wire() {
   $('rangeAuto').addEventListener('click', () => { fitRange(); draw(); });
   $('srgb').addEventListener('change', draw);
   $('zoomFit').addEventListener('click', () => { fitView(); paint(); });
+  $('tiles').addEventListener('change', () => loadTileCounts().catch((e) => setStatus(e.message, true)));
+  $('tileGrid').addEventListener('change', () => loadTileCounts().catch((e) => setStatus(e.message, true)));
   $('lightSlider').addEventListener('input', () => showLight(Number($('lightSlider').value)));
   $('compareRun').addEventListener('click', () => compare(Number($('compareA').value), Number($('compareB').value)));
   $('erratumRun').addEventListener('click', renderCorrected);
