@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <tessera/buffers/texel_codec.h>
 #include <tessera/inspect/buffer_view.h>
 #include <tessera/io/atomic_file.h>
 #include <tessera/io/image_writer.h>
@@ -136,6 +137,15 @@ std::vector<Shot> pictures(const fs::path& root, const std::string& folder, cons
             rule += "; its stencil is " + std::to_string(s.loadStencil(0, 0, 0)) + " everywhere (no picture)";
         shots.push_back({file, rule, label});
     }
+    // A few counters (lightlist.counters) have no picture: their values, in texel order.
+    constexpr std::uint64_t kMaxPrintedValues = 64;
+    if (shots.empty() && formatInfo(s.format()).kind == FormatKind::Uint && std::uint64_t(s.width()) * s.height() <= kMaxPrintedValues) {
+        std::string values;
+        for (std::uint32_t y = 0; y < s.height(); ++y)
+            for (std::uint32_t x = 0; x < s.width(); ++x)
+                values += (values.empty() ? "" : ", ") + std::to_string(decodeTexelUint(s.format(), s.texel(x, y)).x);
+        shots.push_back({"", "values (channel 0, row by row): " + values, name});
+    }
     return shots;
 }
 
@@ -151,8 +161,9 @@ void writeText(const fs::path& file, const std::string& text) {
 std::string shotsHtml(const std::vector<Shot>& shots) {
     std::string out = "<div class=\"shots\">\n";
     for (const Shot& s : shots)
-        out += "<figure><img src=\"" + html(s.file) + "\" alt=\"" + html(s.label) + "\"><figcaption><b>" + html(s.label) +
-               "</b><br>" + html(s.rule) + "</figcaption></figure>\n";
+        out += s.file.empty() ? "<figure><figcaption><b>" + html(s.label) + "</b><br>" + html(s.rule) + "</figcaption></figure>\n"
+                              : "<figure><img src=\"" + html(s.file) + "\" alt=\"" + html(s.label) + "\"><figcaption><b>" + html(s.label) +
+                                    "</b><br>" + html(s.rule) + "</figcaption></figure>\n";
     return out + "</div>\n";
 }
 

@@ -160,7 +160,9 @@ bool sendTexels([[maybe_unused]] const fs::path& file, httplib::Response& res) {
 std::vector<std::string> requestArgs(const std::vector<std::string>& base, const nlohmann::json& body) {
     if (!body.is_object()) throw UsageError("the request is not a JSON object");
     std::vector<std::string> args = base;
-    for (const auto& [key, value] : body.items()) {
+    for (auto it = body.begin(); it != body.end(); ++it) {
+        const std::string& key = it.key();  // not a structured binding: clang 14's lambdas cannot capture those
+        const nlohmann::json& value = it.value();
         const auto flagValue = [&](const char* flag) {
             if (!value.is_string() && !value.is_number_unsigned())
                 throw UsageError("'" + key + "' must be a string or a non-negative integer (got " + value.dump() + ")");

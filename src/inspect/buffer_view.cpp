@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include <tessera/buffers/texel_codec.h>
@@ -41,9 +42,88 @@ Surface makeImage(const Surface& s, bool bar) {
     return Surface({s.width(), s.height() + (bar && fits ? kBarRows : 0), Format::R8G8B8A8_UNORM, 1});
 }
 
-// "; the bar below runs 0..max" when `image` has the bar rows below the buffer's `h`, else "".
+constexpr std::uint32_t kTickRows = 3;  // px: the bottom rows of a bar carry its tick marks
+
+// Tick marks in the bottom rows of the bar below row `h`: white at 0, 1/4, 1/2, 3/4 and the end of
+// the bar's width (black where the ramp is already bright), so that a value can be read off it.
+void drawTicks(Surface& image, std::uint32_t h) {
+    if (image.height() < h + kBarRows || image.width() < 2) return;
+    for (std::uint32_t q = 0; q <= 4; ++q) {
+        const std::uint32_t x = std::min(image.width() - 1, (image.width() - 1) * q / 4);
+        for (std::uint32_t r = kBarRows - kTickRows; r < kBarRows; ++r) {
+            std::uint32_t rgba = 0;
+            std::memcpy(&rgba, image.texel(x, h + r), 4);
+            const std::uint32_t sum = (rgba & 0xFFu) + ((rgba >> 8) & 0xFFu) + ((rgba >> 16) & 0xFFu);
+            store(image, x, h + r, sum > 3u * 160u ? 0x000000u : 0xFFFFFFu);
+        }
+    }
+}
+
+// "; the bar below runs 0..max, ticks at 0, max/4, ..." when `image` has the bar rows below the
+// buffer's `h`, else "".
 std::string barText(const Surface& image, std::uint32_t h, std::uint32_t maxValue) {
-    return image.height() > h ? "; the bar below runs 0.." + std::to_string(maxValue) : std::string();
+    if (image.height() <= h) return std::string();
+    std::string ticks;
+    for (std::uint32_t q = 0; q <= 4; ++q) {
+        const double v = double(maxValue) * q / 4.0;
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", std::round(v * 100.0) / 100.0);
+        ticks += (q ? ", " : "") + std::string(text);
+    }
+    return "; the bar below runs 0.." + std::to_string(maxValue) + ", ticks at " + ticks;
+}
+
+constexpr std::uint32_t kListColumns = 256;  // entries per row of a wrapped index list
+constexpr std::uint32_t kListEntryPx = 2;    // px: each entry's square
+constexpr std::uint32_t kFrustumCellPx = 16; // px: each tile's cell in the frustum picture
+
+// A light index list (lightindex.*: one long row of entries, the tiles' lists end to end) wrapped
+// kListColumns entries per row, each entry a kListEntryPx square on the heat ramp over [0, max].
+BufferView viewIndexList(const Surface& s) {
+    const std::uint64_t entries = std::uint64_t(s.width()) * s.height();
+    const std::uint32_t columns = std::uint32_t(std::min<std::uint64_t>(kListColumns, entries));
+    const std::uint32_t rows = std::uint32_t((entries + columns - 1) / columns);
+    const std::uint32_t h = std::min(rows * kListEntryPx, kMaxSurfaceDimension - kBarRows);
+    std::uint32_t maxValue = 0;
+    for (std::uint32_t y = 0; y < s.height(); ++y)
+        for (std::uint32_t x = 0; x < s.width(); ++x) maxValue = std::max(maxValue, decodeTexelUint(s.format(), s.texel(x, y)).x);
+    BufferView v{Surface({columns * kListEntryPx, h + kBarRows, Format::R8G8B8A8_UNORM, 1}), {}};
+    for (std::uint32_t py = 0; py < h; ++py)
+        for (std::uint32_t px = 0; px < columns * kListEntryPx; ++px) {
+            const std::uint64_t i = std::uint64_t(py / kListEntryPx) * columns + px / kListEntryPx;
+            const std::uint32_t value = i < entries ? decodeTexelUint(s.format(), s.texel(std::uint32_t(i % s.width()), std::uint32_t(i / s.width()))).x : 0;
+            store(v.image, px, py, heatColor(maxValue ? float(double(value) / double(maxValue)) : 0.0f));
+        }
+    const std::uint32_t w = v.image.width();
+    for (std::uint32_t x = 0; x < w; ++x)
+        for (std::uint32_t r = 0; r < kBarRows; ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+    drawTicks(v.image, h);
+    v.rule = "light index list wrapped " + std::to_string(columns) + " entries per row (entry i at column i mod " + std::to_string(columns) +
+             ", row i / " + std::to_string(columns) + "), each a " + std::to_string(kListEntryPx) + " px square: the index on the heat ramp, black 0 to white " +
+             std::to_string(maxValue) + barText(v.image, h, maxValue);
+    return v;
+}
+
+// Forward+'s tile frustums (four planes per tile side by side: left, right, top, bottom, 3dgep
+// article §4.2) as one cell per tile split along its diagonals into four triangles, each the
+// colour of that side's plane normal (view space, xyz * 0.5 + 0.5).
+BufferView viewTileFrustums(const Surface& s) {
+    const std::uint32_t tilesX = s.width() / 4, tilesY = s.height();
+    const std::uint32_t cell = std::max<std::uint32_t>(1, std::min({kFrustumCellPx, kMaxSurfaceDimension / std::max(tilesX, 1u), kMaxSurfaceDimension / std::max(tilesY, 1u)}));
+    BufferView v{Surface({tilesX * cell, tilesY * cell, Format::R8G8B8A8_UNORM, 1}), {}};
+    for (std::uint32_t py = 0; py < tilesY * cell; ++py)
+        for (std::uint32_t px = 0; px < tilesX * cell; ++px) {
+            const float u = (float(px % cell) + 0.5f) / float(cell), t = (float(py % cell) + 0.5f) / float(cell);
+            // Which side of the cell the texel is nearest: 0 left, 1 right, 2 top, 3 bottom.
+            const std::uint32_t side = u <= t && u <= 1.0f - t ? 0 : u >= t && u >= 1.0f - t ? 1 : t < 0.5f ? 2 : 3;
+            const glm::vec4 plane = s.load((px / cell) * 4 + side, py / cell);
+            const glm::vec3 rgb = glm::vec3(plane) * 0.5f + 0.5f;
+            store(v.image, px, py, packRgb(std::isnan(rgb.x) ? 0.0f : rgb.x, std::isnan(rgb.y) ? 0.0f : rgb.y, std::isnan(rgb.z) ? 0.0f : rgb.z));
+        }
+    v.rule = "tile frustums: each tile a " + std::to_string(cell) +
+             " px cell cut along its diagonals into its left, right, top and bottom planes, each coloured by the plane's view-space "
+             "normal as xyz * 0.5 + 0.5 (left planes face +x: reddish; top planes face -y: less green)";
+    return v;
 }
 
 } // namespace
@@ -71,6 +151,7 @@ std::optional<BufferView> overlayTileCounts(const Surface& grid, std::uint32_t t
         }
     for (std::uint32_t x = 0; x < w; ++x)
         for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+    drawTicks(v.image, h);
     v.rule = "lights per " + std::to_string(tileSizePx) + " px tile on the heat ramp (black 0 .. white " + std::to_string(maxCount) +
              "), averaged with the image" + barText(v.image, h, maxCount);
     return v;
@@ -132,6 +213,7 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
             for (std::uint32_t x = 0; x < w; ++x) store(v.image, x, y, paletteColor(s.loadStencil(x, y)));
         for (std::uint32_t x = 0; x < w; ++x)  // legend: 0..max left to right
             for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, paletteColor(x * (maxValue + 1) / w));
+        drawTicks(v.image, h);
         v.rule = "stencil: 0 black, values 1.." + std::to_string(maxValue) +
                  " each its own colour (12-colour palette, value mod 12)" + barText(v.image, h, maxValue);
         return v;
@@ -159,6 +241,10 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
                           : "depth: every pixel holds the cleared 1.0 (black)";
         return v;
     }
+    if (info.kind == FormatKind::Uint && name.rfind("lightindex", 0) == 0) return viewIndexList(s);
+    // A handful of counters is a record of numbers, not a picture: the report prints them, the dump keeps the TIFF.
+    if (info.kind == FormatKind::Uint && name.size() > 9 && name.substr(name.size() - 9) == ".counters") return std::nullopt;
+    if (name == "frustums" && s.format() == Format::R32G32B32A32_FLOAT && w % 4 == 0) return viewTileFrustums(s);
     if (info.kind == FormatKind::Uint) {
         const bool grid = name.rfind("lightgrid", 0) == 0 && info.channels >= 2;
         const int c = grid ? 1 : 0;
@@ -171,6 +257,7 @@ std::optional<BufferView> viewBuffer(std::string_view name, const Surface& s, Vi
             for (std::uint32_t x = 0; x < w; ++x) store(v.image, x, y, heatColor(t(decodeTexelUint(s.format(), s.texel(x, y))[c])));
         for (std::uint32_t x = 0; x < w; ++x)
             for (std::uint32_t r = 0; h + r < v.image.height(); ++r) store(v.image, x, h + r, heatColor(w > 1 ? float(x) / float(w - 1) : 1.0f));
+        drawTicks(v.image, h);
         v.rule = std::string(grid ? "light count (channel 1 of (offset, count))" : "channel 0") +
                  ": heat ramp from black (0) through blue, green, yellow to white (" + std::to_string(maxValue) +
                  ")" + barText(v.image, h, maxValue);

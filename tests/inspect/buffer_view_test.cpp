@@ -126,3 +126,54 @@ TEST_CASE("buffer view: a G-buffer's alpha alone, and tile light counts averaged
 }
 
 } // namespace tessera_test::inspect_buffer_view_test
+
+namespace tessera_test::inspect_buffer_view_test {
+
+TEST_CASE("buffer view: colour bars carry ticks at each quarter, named in the rule") {
+    Surface grid({5, 1, Format::R32G32_UINT, 1});
+    for (std::uint32_t x = 0; x < 5; ++x) encodeTexelUint(Format::R32G32_UINT, glm::uvec4(0, x * 5 / 2, 0, 1), grid.texel(x, 0));
+    const auto view = viewBuffer("lightgrid.opaque", grid);  // counts 0, 2, 5, 7, 10
+    REQUIRE(view);
+    REQUIRE(view->image.height() == 1 + 8);
+    // Ticks at x = 0, 1, 2, 3, 4 (width 5: every column is a quarter) in the bar's bottom 3 rows:
+    // white over the dark start of the ramp, black over its white end; the rows above keep the ramp.
+    CHECK(rgbAt(view->image, 0, 1 + 7) == 0xFFFFFFu);
+    CHECK(rgbAt(view->image, 4, 1 + 7) == 0x000000u);
+    CHECK(rgbAt(view->image, 4, 1 + 0) == 0xFFFFFFu);
+    CHECK(view->rule.find("ticks at 0, 2.5, 5, 7.5, 10") != std::string::npos);
+}
+
+TEST_CASE("buffer view: a light index list is wrapped 256 entries per row, 2 px each") {
+    Surface list({600, 1, Format::R32_UINT, 1});  // one long row, as lightindex.* is stored
+    for (std::uint32_t x = 0; x < 600; ++x) encodeTexelUint(Format::R32_UINT, glm::uvec4(x % 7, 0, 0, 1), list.texel(x, 0));
+    const auto view = viewBuffer("lightindex.opaque", list);
+    REQUIRE(view);
+    // 600 entries: 3 rows of 256 (the last part-filled), 2 px each, then the 8-row bar.
+    CHECK(view->image.width() == 512);
+    CHECK(view->image.height() == 3 * 2 + 8);
+    // Entry 257 (value 257 mod 7 = 5 of max 6) sits at column 1 of row 1: pixels (2..3, 2..3).
+    CHECK(rgbAt(view->image, 2, 2) == heatColor(5.0f / 6.0f));
+    CHECK(rgbAt(view->image, 3, 3) == heatColor(5.0f / 6.0f));
+    // Entry 6 (value 6, the max) at column 6 of row 0; past entry 599: black.
+    CHECK(rgbAt(view->image, 12, 0) == 0xFFFFFFu);
+    CHECK(rgbAt(view->image, 511, 5) == 0u);
+    CHECK(view->rule.find("256 entries per row") != std::string::npos);
+}
+
+TEST_CASE("buffer view: tile frustums as four triangles per tile coloured by the planes' normals, and counters have no picture") {
+    Surface frustums({4, 1, Format::R32G32B32A32_FLOAT, 1});  // one tile: left, right, top, bottom
+    const float planes[4][4] = {{1, 0, 0, 0}, {-1, 0, 0, 0}, {0, -1, 0, 0}, {0, 1, 0, 0}};
+    for (std::uint32_t i = 0; i < 4; ++i) std::memcpy(frustums.texel(i, 0), planes[i], sizeof planes[i]);
+    const auto view = viewBuffer("frustums", frustums);
+    REQUIRE(view);
+    CHECK(view->image.width() == 16);
+    CHECK(view->image.height() == 16);
+    // n * 0.5 + 0.5 in 8-bit codes: 1 -> 255, 0 -> 128 (0.5 * 255 = 127.5 rounds up), -1 -> 0.
+    CHECK(rgbAt(view->image, 0, 8) == (255u | 128u << 8 | 128u << 16));   // left edge: the left plane, +x
+    CHECK(rgbAt(view->image, 15, 8) == (0u | 128u << 8 | 128u << 16));    // right edge: -x
+    CHECK(rgbAt(view->image, 8, 0) == (128u | 0u << 8 | 128u << 16));     // top edge: -y
+    CHECK(rgbAt(view->image, 8, 15) == (128u | 255u << 8 | 128u << 16));  // bottom edge: +y
+    CHECK_FALSE(viewBuffer("lightlist.counters", Surface({8, 2, Format::R32_UINT, 1})));
+}
+
+} // namespace tessera_test::inspect_buffer_view_test

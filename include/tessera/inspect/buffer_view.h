@@ -29,7 +29,11 @@ enum class ViewChannel : std::uint8_t { Depth, Stencil, Alpha, Rgb };
 //  - stencil (ViewChannel::Stencil): 0 black, each other value its own colour of a fixed
 //    12-colour palette (value mod 12), a legend bar of 0..max below;
 //  - UINT: a heat ramp from black (0) through blue, green, yellow to white (the buffer's max),
-//    with a colour bar; for "lightgrid*" buffers (offset, count) the count, else channel 0;
+//    with a colour bar ticked at each quarter; for "lightgrid*" buffers (offset, count) the count,
+//    else channel 0; "lightindex*" lists wrapped 256 entries per row, 2 px each; "*.counters":
+//    nullopt (a few numbers, not a picture);
+//  - "frustums" (R32G32B32A32_FLOAT, four planes per tile: left, right, top, bottom): a 16 px
+//    cell per tile cut along its diagonals into four triangles coloured by the planes' normals;
 //  - float / SNORM / packed formats: names containing "normal" as n * 0.5 + 0.5, others
 //    rgb * exposure clamped to [0, 1] (one channel as grey);
 //  - R8G8B8A8 formats: nullopt (the dump is already viewable);
