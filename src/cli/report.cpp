@@ -45,7 +45,8 @@ options:
   -o, --out DIR  the report's folder (created; its files are overwritten)
   --width W      width in px (default 480)
   --height H     height in px (default 270)
-  --light I      the light whose deferred steps are shown (default: the first point or spot light)
+  --light I      the light whose deferred steps are shown (default: the first point or spot light whose
+                 volume leaves the eye outside, so the stencil shows the trick)
   --threads N    worker threads, 0 = all cores (default 0)
   --help         show this text
 )";
@@ -147,6 +148,18 @@ std::vector<Shot> pictures(const fs::path& root, const std::string& folder, cons
         shots.push_back({"", "values (channel 0, row by row): " + values, name});
     }
     return shots;
+}
+
+// Whether light `l`'s volume (a sphere of its range; a spot's cone of its range and half angle)
+// holds the point `eyeWorld`, with 5% to spare for the volume meshes and the near plane.
+bool volumeHoldsEye(const Light& l, glm::vec3 eyeWorld) {
+    constexpr float kMargin = 1.05f;  // the circumscribed meshes reach 1.00114 x range; the near plane a little more
+    const glm::vec3 toEye = eyeWorld - l.positionWorld;
+    const float distance = glm::length(toEye);
+    if (!(distance < l.range * kMargin)) return false;
+    if (l.type != LightType::Spot || distance == 0.0f) return true;
+    const float cosToEye = glm::dot(toEye / distance, l.directionWorld);
+    return cosToEye > std::cos(glm::radians(std::min(90.0f, l.spotHalfAngleDeg * kMargin)));
 }
 
 std::string folderName(std::string text) {
@@ -290,9 +303,14 @@ int reportCommand(const std::vector<std::string_view>& args) {
     Camera camera;
     Scene scene = loadScene(desc, true, &camera);
     if (scene.lights.empty()) scene.lights = defaultLightRig(scene.bounds(), camera);
-    if (!chosenLight)
+    // The default light shows the stencil trick: the first point or spot light whose volume leaves
+    // the eye outside (a volume around the eye marks every pixel alike: one flat stencil colour),
+    // else the first point or spot light.
+    for (const bool eyeOutsideOnly : {true, false})
         for (std::size_t i = 0; i < scene.lights.size() && !chosenLight; ++i)
-            if (scene.lights[i].type != LightType::Directional) chosenLight = std::uint32_t(i);
+            if (scene.lights[i].type != LightType::Directional &&
+                (!eyeOutsideOnly || !volumeHoldsEye(scene.lights[i], camera.positionWorld)))
+                chosenLight = std::uint32_t(i);
     if (chosenLight && *chosenLight >= scene.lights.size())
         throw InputError("--light: " + std::to_string(*chosenLight) + " is not a light of " + sceneFile.string() + " (it has " +
                          std::to_string(scene.lights.size()) + ")");

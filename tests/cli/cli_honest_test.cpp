@@ -248,6 +248,13 @@ TEST_CASE("cli honest: the report's why column comes from each run's counts and 
     const std::size_t src = forwardPlus.rfind("src=\"", overlay);
     REQUIRE(src != std::string::npos);
     CHECK(fs::exists(dir / forwardPlus.substr(src + 5, overlay + std::string("lightgrid.opaque.overlay.png").size() - src - 5)));
+    // The deferred light shown step by step leaves the eye outside its volume: light 3 'key' (the
+    // default scene's lights 1 and 2 hold the eye, which Killzone's row above counts as skipped),
+    // so its stencil after unmark is a picture (not one flat value).
+    const std::string deferredSection = sectionOf("deferred");
+    CHECK(deferredSection.find("light 3, step by step") != std::string::npos);
+    CHECK(deferredSection.find("light-3-unmark/depth.stencil.png") != std::string::npos);
+    CHECK(fs::exists(dir / "deferred/light-3-unmark/depth.stencil.png"));
 }
 
 TEST_CASE("cli honest: --precision reference --out writes the double result: PNG rounded once from it, EXR its floats") {
