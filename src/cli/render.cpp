@@ -57,6 +57,9 @@ options:
   --width W         width in px, 1..16384 (default: the scene file's)
   --height H        height in px, 1..16384 (default: the scene file's)
   --precision MODE  reference, exact or fast (default: the scene file's, else exact)
+  --orbit AZ,EL      the camera on a sphere around the scene's bounds looking at their centre, far
+                    enough for the bounds to fit the view: AZ degrees about +Y from +Z towards +X, EL
+                    degrees up from the horizontal (-89..89)
   --camera-position X,Y,Z  the eye, world units; with --camera-target the camera a scene file's
                     {"position", "target"} makes (+Y up), alone it looks at the scene's bounds' centre
   --camera-target X,Y,Z    the point looked at (alone: from the scene's camera position)
@@ -244,6 +247,25 @@ void applyCameraArgs(const RenderOptions& o, tessera::SceneDescription& desc, co
 // A --camera-position or --camera-target given alone, over the loaded camera: a position looks at
 // the scene's bounds' centre, a target is looked at from the camera's own position.
 void aimCameraArgs(const RenderOptions& o, const tessera::Scene& scene, tessera::Camera& camera) {
+    if (o.orbitDeg) {
+        // On the sphere around the bounds' centre at the distance where the bounding sphere fills
+        // the vertical field of view with 10% to spare: azimuth about +Y from +Z towards +X,
+        // elevation up from the horizontal plane.
+        constexpr float kSpare = 1.1f;
+        const tessera::Bounds bounds = scene.bounds();
+        if (bounds.empty()) throw UsageError("--orbit: the scene is empty, nothing to orbit");
+        const glm::vec3 centre = (bounds.minWorld + bounds.maxWorld) * 0.5f;
+        const float radius = std::max(glm::length(bounds.maxWorld - bounds.minWorld) * 0.5f, 1.0e-6f);
+        const float distance = kSpare * radius / std::sin(glm::radians(camera.fovYDeg) * 0.5f);
+        const float az = glm::radians(o.orbitDeg->x), el = glm::radians(o.orbitDeg->y);
+        const glm::vec3 direction(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+        const tessera::LookAt look = tessera::lookAtOrientation(centre + direction * distance, centre, glm::vec3(0.0f, 1.0f, 0.0f));
+        if (look.problem != tessera::LookAt::Problem::None) throw UsageError(std::string("--orbit: ") + look.why());
+        camera.positionWorld = centre + direction * distance;
+        camera.orientationWorld = look.orientationWorld;
+        camera.farZ = std::max(camera.farZ, distance + 2.0f * radius);
+        return;
+    }
     if (o.cameraPosition.has_value() == o.cameraTarget.has_value()) return;  // both: applyCameraArgs; none
     const tessera::Bounds bounds = scene.bounds();
     const glm::vec3 position = o.cameraPosition.value_or(camera.positionWorld);

@@ -176,6 +176,18 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
                                                    parseUint("--probe", std::string_view(text).substr(comma + 1), 0, kMaxSurfaceDimension - 1)};
         } else if (a == "--camera-position" || a == "--camera-target") {
             (a == "--camera-position" ? o.cameraPosition : o.cameraTarget) = parseVec3(a, value());
+        } else if (a == "--orbit") {
+            const std::string text(value());
+            const std::size_t comma = text.find(',');
+            const auto number = [&text](std::string part, float lo, float hi) {
+                char* end = nullptr;
+                const float v = std::strtof(part.c_str(), &end);
+                if (part.empty() || end != part.c_str() + part.size() || !(v >= lo && v <= hi))
+                    throw UsageError("--orbit: '" + text + "' is not AZIMUTH,ELEVATION in degrees (elevation from -89 to 89)");
+                return v;
+            };
+            if (comma == std::string::npos) number("", 0.0f, 0.0f);
+            o.orbitDeg = glm::vec2(number(text.substr(0, comma), -1.0e6f, 1.0e6f), number(text.substr(comma + 1), -89.0f, 89.0f));
         } else if (a == "--fov") {
             const std::string text(value());
             char* end = nullptr;
@@ -225,6 +237,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if ((!o.dumpAfter.empty() || o.dumpAfterAll) && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
     if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
     if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
+    if (o.orbitDeg && (o.cameraPosition || o.cameraTarget))
+        throw UsageError("--orbit places the camera itself: give it without --camera-position and --camera-target");
     if (!o.dumpLights.empty() && o.scene == "builtin") throw UsageError("--dump-lights: the builtin scene has no lights to step through");
     const std::string ext = std::filesystem::path(o.out).extension().string();
     if (ext != ".png" && ext != ".exr") throw UsageError("--out: '" + o.out + "' must end in .png or .exr");
@@ -234,8 +248,8 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.scene == "builtin") {
         if (!o.technique.empty()) warn("--technique: the builtin scene draws with its own shading; the flag changes nothing");
         if (o.lights) warn("--lights: the builtin scene has no light generators; the flag changes nothing");
-        if (o.cameraPosition || o.cameraTarget || o.fovDeg)
-            warn("--camera-position, --camera-target, --fov: the builtin scene has its own camera; the flags change nothing");
+        if (o.cameraPosition || o.cameraTarget || o.fovDeg || o.orbitDeg)
+            warn("--camera-position, --camera-target, --fov, --orbit: the builtin scene has its own camera; the flags change nothing");
     }
     return o;
 }

@@ -65,6 +65,7 @@ struct RenderOptions {
     // a position alone looks at the scene's bounds' centre; a target alone re-aims the camera.
     std::optional<glm::vec3> cameraPosition, cameraTarget;
     std::optional<float> fovDeg;
+    std::optional<glm::vec2> orbitDeg;  // --orbit AZIMUTH,ELEVATION: on a sphere around the scene's bounds
     std::vector<std::pair<std::string, nlohmann::json>> options;  // --option, in command-line order
     DeviceConfig device;
     std::uint32_t msaa = 1;

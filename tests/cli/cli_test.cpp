@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <string>
 #include <sys/wait.h>
 
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 // One namespace per test file: the files of a folder compile as one unity batch (tests/CMakeLists.txt).
@@ -364,7 +366,22 @@ TEST_CASE("cli: camera flags on a glTF give the bytes of a scene file with that 
         {"--camera-position 0,5,0", "--camera-position: \"up\" is parallel to the view direction"},
         {"--fov 180", "--fov: '180' is not a vertical field of view"},
         {"--fov 0", "--fov: '0' is not a vertical field of view"},
+        {"--orbit 10", "--orbit: '10' is not AZIMUTH,ELEVATION"},
+        {"--orbit 0,90", "--orbit: '0,90' is not AZIMUTH,ELEVATION"},
+        {"--orbit 0,0 --camera-position 1,2,3", "--orbit places the camera itself"},
     };
+    // --orbit 0,0: on +Z from the bounds' centre (BoxTextured: the unit cube about the origin) at
+    // 1.1 x the bounding radius / sin(fov / 2), the same float operations as render.cpp's:
+    // radius = |(1, 1, 1)| / 2 = sqrt(3) / 2, fov 30: 1.1 * 0.8660254 / sin(15 deg) = 3.6807...
+    const float radius = std::sqrt(3.0f) * 0.5f;
+    const float distance = 1.1f * radius / std::sin(glm::radians(30.0f) * 0.5f);
+    char position[64];
+    std::snprintf(position, sizeof position, "0,0,%.9g", double(distance));
+    const auto orbit = scratch("camera-orbit.png"), orbitAsFlags = scratch("camera-orbit-flags.png");
+    REQUIRE(run("render " + box + size + " --orbit 0,0 --fov 30 -o " + orbit.string()).exitCode == 0);
+    REQUIRE(run("render " + box + size + " --camera-position " + position + " --camera-target 0,0,0 --fov 30 -o " + orbitAsFlags.string()).exitCode == 0);
+    CHECK(bytesOf(orbit) == bytesOf(orbitAsFlags));
+    CHECK(bytesOf(orbit) != bytesOf(fromFile));
     for (const Case& c : cases) {
         const Run e = run("render " + box + size + " --no-output " + c.args);
         INFO(c.args << " -> " << e.output);
