@@ -201,3 +201,31 @@ test('tiles: light counts over the image and a tile\'s list and 2.5D mask (forwa
     assert.equal((await serve.stop()).code, 0);
   }
 });
+
+test("Killzone 2's light steps: each light's query count and threshold, shaded exactly when the count exceeds it", async () => {
+  const serve = await startServe(tessera, ['default', '--technique', 'deferred-killzone', '--width', '160', '--height', '90']);
+  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1500, height: 1100 });
+    await page.goto(serve.url);
+    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+    const steps = (await request(serve.url, '/api/render/1')).json.manifest.lightSteps;
+    const decisions = [];
+    for (const light of Object.keys(steps).filter((l) => steps[l].count)) {
+      await page.$eval('#lightSlider', (s, v) => { s.value = v; s.dispatchEvent(new Event('input')); }, light);
+      await page.waitForFunction((v) => document.querySelector('#lightPictures').dataset.light === v && document.querySelector('#killzoneCount'), {}, light);
+      const shown = await page.$eval('#killzoneCount', (p) => ({ count: Number(p.dataset.count), threshold: Number(p.dataset.threshold), text: p.textContent }));
+      assert.equal(shown.threshold, 0, 'the faithful threshold');
+      // The technique shaded the light (a shade step in the dump) exactly when count > threshold.
+      assert.equal(Boolean(steps[light].shade), shown.count > shown.threshold, `light ${light}: ${shown.text}`);
+      assert.match(shown.text, shown.count > shown.threshold ? /shaded/ : /skipped/);
+      decisions.push(shown.count > shown.threshold);
+    }
+    // The default scene has both kinds: lights whose volume holds the eye mark nothing (skipped).
+    assert.ok(decisions.includes(true) && decisions.includes(false), `shaded and skipped lights: ${decisions}`);
+  } finally {
+    await browser.close();
+    assert.equal((await serve.stop()).code, 0);
+  }
+});

@@ -610,6 +610,20 @@ async function shadedPicture(light, steps) {
   return fig;
 }
 
+// Killzone 2's decision for a light: its occlusion query's count (killzone.samples, one texel per
+// light, after the count step) against the "threshold" option: shaded only when the count exceeds it.
+async function killzoneCount(light, step) {
+  const b = step.buffers.find((x) => x.name === 'killzone.samples');
+  if (!b) return el('p', {}, 'no killzone.samples buffer in this render');
+  const texels = await fetchTexels(filePath(step.folder, b.file));
+  const count = texels.data[light];  // row-major: light i at (i mod width, i / width)
+  const option = technique().options.find((o) => o.key === 'threshold');
+  const threshold = Number((state.render.manifest.options || {}).threshold ?? (option ? option.faithful : 0));
+  const p = el('p', { id: 'killzoneCount', 'data-count': String(count), 'data-threshold': String(threshold) },
+    `occlusion query: ${count} samples passed the count step; threshold ${threshold}: ${count > threshold ? 'shaded' : 'skipped (the light adds nothing)'}`);
+  return p;
+}
+
 function passBeforeLights() {
   const passes = state.render.manifest.passes.map((p) => p.name);
   const i = passes.indexOf('lights');
@@ -633,6 +647,7 @@ async function showLight(light) {
   } else {
     box.append(el('p', {}, 'This light has no stencil steps (a full-screen pass: directional light).'));
   }
+  if (s.count) box.append(await killzoneCount(light, s.count));
   const shaded = await shadedPicture(light, steps);
   if (shaded) box.append(shaded);
   if (s.shade) {
