@@ -179,6 +179,12 @@ void PixelHistory::addDrawEvents(std::string_view pass, PixelWatch& watch, long 
             e["inputs"] = shaderInputs(d);
             e["output"] = {d.output.x, d.output.y, d.output.z, d.output.w};
         }
+        if (d.surface.recorded) {  // the material the light terms multiply (textures sampled)
+            const auto v4 = [](const glm::dvec4& c) { return nlohmann::json{c.x, c.y, c.z, c.w}; };
+            e["surface"] = {{"diffuse", v4(d.surface.diffuse)},   {"alpha", d.surface.alpha},
+                            {"ambient", v4(d.surface.ambient)},   {"emissive", v4(d.surface.emissive)},
+                            {"specular", v4(d.surface.specular)}, {"specularPower", d.surface.specularPower}};
+        }
         if (!d.lights.empty()) {
             nlohmann::json lights = nlohmann::json::array();
             for (const LightTerm& term : d.lights) lights.push_back(lightTermJson(term));
@@ -287,6 +293,12 @@ std::string PixelHistory::text() const {
             if (e.contains("inputs"))
                 for (const auto& input : e["inputs"])
                     out += "      in  " + input["name"].get<std::string>() + " " + readable(input["value"]) + "\n";
+            if (e.contains("surface")) {
+                const auto& m = e["surface"];
+                out += "      material diffuse " + readable(m["diffuse"]) + " (textures sampled), alpha " + readable(m["alpha"]) +
+                       ", ambient " + readable(m["ambient"]) + ", emissive " + readable(m["emissive"]) + ", specular " +
+                       readable(m["specular"]) + " power " + readable(m["specularPower"]) + "\n";
+            }
             if (e.contains("lights"))
                 for (const auto& l : e["lights"]) {
                     out += "      " + lightLabel(l["light"]) + ": ";

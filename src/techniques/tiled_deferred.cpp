@@ -368,8 +368,10 @@ void watchPixel(const TiledSetup& f, std::span<const std::uint32_t> list, std::u
     const std::size_t bytes = formatInfo(target->format()).bytesPerTexel;
     std::memcpy(ev.colorBefore.data(), target->texel(x, y), bytes);
     setWatchedLightTerms(&ev.lights);
+    setWatchedSurface(&ev.surface);
     shade();
     setWatchedLightTerms(nullptr);
+    setWatchedSurface(nullptr);
     std::memcpy(ev.colorAfter.data(), target->texel(x, y), bytes);
     ev.output = target->load(x, y);
     if (f.options.shading == Shading::Dgep)

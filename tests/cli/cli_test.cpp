@@ -675,6 +675,40 @@ TEST_CASE("cli: probe prints a pixel's history through the passes, the tile and 
     CHECK(run("render default --json").exitCode == 2);
 }
 
+TEST_CASE("cli: probe prints the material the shader sampled, from which its output is rebuilt with the light terms") {
+    // 3dgep's forward PS (demo ForwardRendering.hlsl): out = emissive + ambient + diffuse * sum of
+    // the lights' diffuse + specular * sum of their specular, alpha = the diffuse alpha. The probe
+    // prints every factor as the shader held it (binary32, every digit in --json); summing in
+    // double instead of the shader's float order leaves differences below 1e-5 at these magnitudes
+    // (values < 4, at most 5 additions of binary32 terms: each rounding <= 2^-24 * 4).
+    const Run r = run("probe default 240 150 --technique forward --width 480 --height 270 --json");  // a textured wall
+    INFO(r.output);
+    REQUIRE(r.exitCode == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.output);
+    const nlohmann::json* shaded = nullptr;
+    for (const auto& e : j["events"])
+        if (e.contains("draw") && e["shaded"].get<bool>() && e.contains("surface")) shaded = &e;
+    REQUIRE(shaded != nullptr);
+    const nlohmann::json& m = (*shaded)["surface"];
+    double diffuseSum[3] = {}, specularSum[3] = {};
+    for (const auto& l : (*shaded)["lights"])
+        if (!l.contains("none"))
+            for (int c = 0; c < 3; ++c) {
+                diffuseSum[c] += l["diffuse"][c].get<double>();
+                specularSum[c] += l["specular"][c].get<double>();
+            }
+    for (int c = 0; c < 3; ++c) {
+        const double rebuilt = m["emissive"][c].get<double>() + m["ambient"][c].get<double>() + m["diffuse"][c].get<double>() * diffuseSum[c] +
+                               m["specular"][c].get<double>() * specularSum[c];
+        CHECK(std::abs(rebuilt - (*shaded)["output"][c].get<double>()) < 1e-5);
+    }
+    CHECK((*shaded)["output"][3].get<double>() == m["alpha"].get<double>());
+    // The sampled albedo is the texture's (not the material's constant white): it differs per channel.
+    CHECK(m["diffuse"][0].get<double>() != m["diffuse"][2].get<double>());
+    const Run text = run("probe default 240 150 --technique forward --width 480 --height 270");
+    CHECK(text.output.find("material diffuse [") != std::string::npos);
+}
+
 TEST_CASE("cli: renders that would pass the memory limit are refused before allocating, with exit 2 and nothing written") {
     const auto out = scratch("too-big.png");
     std::filesystem::remove(out);

@@ -46,6 +46,7 @@ struct PixelDrawEvent {
     std::span<const VaryingField> inputFields;
     glm::vec4 output{0.0f};       // SV_Target0 when shaded
     std::vector<LightTerm> lights;  // what each light added, in loop order (empty: the shader reported none)
+    WatchedSurface surface;         // the material the shader gathered (recorded: Phong materials)
     Format colorFormat = Format::Unknown, depthFormat = Format::Unknown;  // Unknown: no such target
     std::array<std::byte, 16> colorBefore{}, colorAfter{};  // render target 0, sample 0
     std::array<std::byte, 8> depthBefore{}, depthAfter{};   // the depth-stencil texel, sample 0

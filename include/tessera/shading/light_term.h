@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <glm/vec4.hpp>
+#include <glm/ext/vector_double4.hpp>
 
 namespace tessera {
 
@@ -32,12 +33,25 @@ struct LightTerm {
 // LightTerm::light of a pass that is no scene light (the Cookbook's ambient-only quad).
 inline constexpr std::uint32_t kAmbientLightTerm = 0xFFFFFFFFu;
 
+// The material the watched pixel's shader gathered before lighting (textures sampled, each
+// texture's rule applied): what the light terms are multiplied by, so that the shader's output can
+// be rebuilt from the probe's numbers. Recorded by the Phong surface gather (shading/phong_surface.h).
+struct WatchedSurface {
+    bool recorded = false;
+    glm::dvec4 diffuse{0.0}, ambient{0.0}, emissive{0.0}, specular{0.0};  // ambient includes GlobalAmbient
+    double alpha = 1.0, specularPower = 0.0;
+};
+
 namespace detail {
 inline thread_local std::vector<LightTerm>* tWatchedLightTerms = nullptr;
+inline thread_local WatchedSurface* tWatchedSurface = nullptr;
 } // namespace detail
 
 // Where the light loops record LightTerms now: non-null only while the watched pixel shades.
 inline std::vector<LightTerm>* watchedLightTerms() { return detail::tWatchedLightTerms; }
 inline void setWatchedLightTerms(std::vector<LightTerm>* terms) { detail::tWatchedLightTerms = terms; }
+// Where the surface gather records the watched pixel's material: non-null only while it shades.
+inline WatchedSurface* watchedSurface() { return detail::tWatchedSurface; }
+inline void setWatchedSurface(WatchedSurface* surface) { detail::tWatchedSurface = surface; }
 
 } // namespace tessera

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <utility>
 
+#include <tessera/shading/light_term.h>
 #include <tessera/shading/phong_material_shader.h>
 
 namespace tessera {
@@ -151,6 +152,10 @@ bool gatherPhongSurface(const PhongShaderData<T>& d, const PixelInput<PhongVaryi
     s.specularPower = specularPower;
     s.specular = specular;
     s.normalView = normalView;
+    if (WatchedSurface* watched = watchedSurface()) [[unlikely]] {  // `tessera probe`'s pixel
+        const auto d4 = [](const Vec4<T>& c) { return glm::dvec4(double(c.x), double(c.y), double(c.z), double(c.w)); };
+        *watched = {true, d4(diffuse), d4(ambient), d4(emissive), d4(specular), double(alpha), double(specularPower)};
+    }
     return true;
 }
 

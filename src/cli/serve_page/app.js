@@ -506,6 +506,11 @@ function historyEvent(e, names) {
     div.append(el('div', { class: 'mono' }, facts.join(' · ')));
     for (const input of e.inputs || []) div.append(el('div', { class: 'mono' }, `in  ${input.name} ${vec(input.value)}`));
     if (e.output !== undefined) div.append(el('div', { class: 'mono' }, `out ${JSON.stringify(e.output)}`));
+    if (e.surface) {
+      const m = e.surface;
+      div.append(el('div', { class: 'mono', 'data-surface': 'true' },
+        `material diffuse ${vec(m.diffuse)} (textures sampled) alpha ${num(m.alpha)} ambient ${vec(m.ambient)} emissive ${vec(m.emissive)} specular ${vec(m.specular)} power ${num(m.specularPower)}`));
+    }
     for (const t of e.lights || []) {
       const line = el('div', { class: `light mono${t.none ? ' nothing' : ''}`, 'data-light': String(t.light) });
       const added = t.added ? `added ${vec(t.added)}` : `diffuse ${vec(t.diffuse)} specular ${vec(t.specular)}`;

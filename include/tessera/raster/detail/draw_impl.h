@@ -894,6 +894,7 @@ private:
                     std::copy(floats.begin(), floats.end(), ev.inputs.begin());
                     ev.inputFields = varyingFields<V>();
                     setWatchedLightTerms(&ev.lights);
+                    setWatchedSurface(&ev.surface);
                 }
                 mPs(in, out);
                 ++mCounters.psInvocations;
@@ -901,6 +902,7 @@ private:
                 shaded = true;
                 if (watched) [[unlikely]] {
                     setWatchedLightTerms(nullptr);
+                    setWatchedSurface(nullptr);
                     watched->event.shaded = true;
                     watched->event.discarded = out.discarded;
                     if constexpr (kTargets > 0) watched->event.output = out.target[0];
