@@ -87,7 +87,8 @@ options:
   --dump-lights I[,J]  with --dump, deferred and deferred-killzone: also the buffers after each step of
                     light I (scene order, from 0): DIR/light-I-unmark/ and DIR/light-I-shade/ (Killzone:
                     -mark, -count, -shade), so the stencil can be watched being marked and cleared;
-                    `all`: every light, and nothing (no error) for techniques without light steps
+                    `A-B`: the lights from A to B the scene has, `all`: every light (both: nothing, not
+                    an error, for techniques without light steps)
   --exposure E      scale of float colour buffers in DIR/view/ (default 1)
   --probe X,Y       print the history of window pixel (X, Y): each primitive that covered it (draw,
                     coverage, depth test, shader output, texels before/after), every buffer's value
@@ -507,8 +508,9 @@ int renderScene(RenderOptions& o, DumpStaging& staging) {
     tessera::FrameNotes notes;
     ctx.notes = &notes;
     // --dump-lights: the chosen lights' steps, written during the last (written) run only.
-    if (o.dumpLightsAll && (tessera::findTechnique(desc.technique)->features & tessera::kPerLightSteps))
-        for (std::uint32_t light = 0; light < scene.lights.size(); ++light) o.dumpLights.push_back(light);
+    if (o.dumpLightsRange && (tessera::findTechnique(desc.technique)->features & tessera::kPerLightSteps))
+        for (std::uint32_t light = (*o.dumpLightsRange)[0]; light <= (*o.dumpLightsRange)[1] && light < scene.lights.size(); ++light)
+            o.dumpLights.push_back(light);
     for (const std::uint32_t light : o.dumpLights)
         if (light >= scene.lights.size())
             throw UsageError("--dump-lights: light " + std::to_string(light) + " does not exist (" + sceneFile.string() + " has " +

@@ -162,8 +162,14 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
             }
         } else if (a == "--dump-lights") {
             const std::string list(value());
-            if (list == "all") o.dumpLightsAll = true;
-            for (std::size_t start = 0; start <= list.size() && !o.dumpLightsAll;) {
+            const std::size_t dash = list.find('-');
+            if (list == "all") o.dumpLightsRange = std::array<std::uint32_t, 2>{0, 999999};
+            else if (dash != std::string::npos)
+                o.dumpLightsRange = std::array<std::uint32_t, 2>{parseUint("--dump-lights", std::string_view(list).substr(0, dash), 0, 999999),
+                                                                 parseUint("--dump-lights", std::string_view(list).substr(dash + 1), 0, 999999)};
+            if (o.dumpLightsRange && (*o.dumpLightsRange)[0] > (*o.dumpLightsRange)[1])
+                throw UsageError("--dump-lights: '" + list + "' is an empty range (A-B needs A <= B)");
+            for (std::size_t start = 0; start <= list.size() && !o.dumpLightsRange;) {
                 const std::size_t comma = std::min(list.find(',', start), list.size());
                 o.dumpLights.push_back(parseUint("--dump-lights", std::string_view(list).substr(start, comma - start), 0, 999999));
                 start = comma + 1;
@@ -235,7 +241,7 @@ RenderOptions parseRenderArgs(const std::vector<std::string_view>& args, bool& h
     if (o.noOutput && o.outGiven) throw UsageError("--no-output and --out: choose one");
     if (o.noOutput && !o.dumpDir.empty()) throw UsageError("--no-output and --dump: choose one");
     if ((!o.dumpAfter.empty() || o.dumpAfterAll) && o.dumpDir.empty()) throw UsageError("--dump-after needs --dump DIR");
-    if ((!o.dumpLights.empty() || o.dumpLightsAll) && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
+    if ((!o.dumpLights.empty() || o.dumpLightsRange) && o.dumpDir.empty()) throw UsageError("--dump-lights needs --dump DIR");
     if (o.probeJson && !o.probe) throw UsageError("--json: only with --probe (the pixel history as JSON)");
     if (o.orbitDeg && (o.cameraPosition || o.cameraTarget))
         throw UsageError("--orbit places the camera itself: give it without --camera-position and --camera-target");

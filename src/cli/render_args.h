@@ -51,7 +51,9 @@ struct RenderOptions {
     std::vector<std::string> dumpAfter;  // pass names
     bool dumpAfterAll = false;              // `--dump-after all` (checkDumpAfter names the passes)
     std::vector<std::uint32_t> dumpLights;  // light indices
-    bool dumpLightsAll = false;             // `--dump-lights all` (every light of the loaded scene)
+    // `--dump-lights all` (every light of the loaded scene) or `--dump-lights A-B`: the lights of
+    // [A, B] that the scene has (light steps of a technique that has none: nothing)
+    std::optional<std::array<std::uint32_t, 2>> dumpLightsRange;
     float exposure = 1.0f;
     std::uint32_t viewTileSize = 0;  // the technique's light-grid tile, for the overlay views (0: none)
     std::optional<std::array<std::uint32_t, 2>> probe;  // --probe X,Y: window px

@@ -47,14 +47,17 @@ on click, the deferred light steps, and re-rendering with other techniques and o
   --bind ADDR   the address to listen on (default 127.0.0.1, this machine only); anything else
                 lets other machines read the page and start renders
   --max-rate N  requests per second served, all clients together (default 200; more get 429)
+  --light-steps N  the lights (from 0) whose deferred steps each render keeps (default 16; 0 none)
 Every option of `tessera render` that chooses what to draw applies (technique, --option, size,
-MSAA, precision, lights, camera); serve owns --out, --dump, --dump-after, --dump-lights, --probe.
+MSAA, precision, lights, camera); serve owns --out, --dump, --dump-after, --dump-lights, --probe,
+--repeat and --warmup (each render runs the frame twice: the first is timed, the second dumped).
 Ctrl-C stops the server and removes its renders.
 )";
 
 constexpr int kDefaultPort = 8470;
 constexpr std::size_t kMaxRequestBytes = 64 * 1024;  // a render request is a few hundred bytes
 constexpr std::uint32_t kDefaultRate = 200;          // requests per second, all clients together
+constexpr std::uint32_t kDefaultLightSteps = 16;     // lights whose deferred steps are dumped (each: every buffer, twice)
 constexpr std::size_t kThreads = 16;                  // connections served at once (a probe holds one)
 constexpr time_t kKeepAliveSeconds = 2;               // an idle kept-alive connection holds a thread this long
 
@@ -286,6 +289,7 @@ void addRoutes(httplib::Server& server, ServeJobs& jobs, const std::vector<std::
 int serveCommand(const std::vector<std::string_view>& args) {
     int port = kDefaultPort;
     std::uint32_t maxRate = kDefaultRate;
+    std::uint32_t lightSteps = kDefaultLightSteps;
     std::string bindAddress = "127.0.0.1";
     // The scene first (as `tessera probe` takes it), then render's flags, forwarded as typed.
     std::vector<std::string> base{"default"};
@@ -303,9 +307,11 @@ int serveCommand(const std::vector<std::string_view>& args) {
         }
         if (name == "--port") port = int(parseUint("--port", value(), 0, 65535));
         else if (name == "--max-rate") maxRate = parseUint("--max-rate", value(), 1, 1000000);
+        else if (name == "--light-steps") lightSteps = parseUint("--light-steps", value(), 0, 1000000);
         else if (name == "--bind") bindAddress = std::string(value());
         else if (name == "--out" || name == "-o" || name == "--dump" || name == "--dump-after" || name == "--dump-lights" ||
-                 name == "--probe" || name == "--json" || name == "--no-output" || name == "--stats" || name == "--progress")
+                 name == "--probe" || name == "--json" || name == "--no-output" || name == "--stats" || name == "--progress" ||
+                 name == "--repeat" || name == "--warmup")
             throw UsageError(std::string(name) + ": serve chooses this itself (every render is dumped whole)");
         else if (i == 0 && !a.empty() && a[0] != '-') base[0] = std::string(a);
         else base.emplace_back(a);
@@ -331,7 +337,7 @@ int serveCommand(const std::vector<std::string_view>& args) {
     pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
     std::signal(SIGPIPE, SIG_IGN);
 
-    ServeJobs jobs(fs::path(std::string(exe, std::size_t(n))), fs::path(workTemplate));
+    ServeJobs jobs(fs::path(std::string(exe, std::size_t(n))), fs::path(workTemplate), lightSteps);
     // The first render before the URL: a scene that cannot render is said now, with its exit code.
     std::fprintf(stderr, "tessera serve: rendering %s\n", base[0].c_str());
     const std::uint64_t first = jobs.submit(base);

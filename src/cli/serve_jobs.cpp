@@ -66,14 +66,16 @@ std::string lastProgress(const fs::path& errFile) {
     return frame;
 }
 
-// "pass <name> <ms> ms" and "frame <ms> ms" lines of --stats (pass names may hold spaces).
+// "pass <name> <median> ms  (<min>..<max>)" and "frame ..." lines of --stats over the two runs
+// (pass names may hold spaces): the minimum, the run that wrote no dumps.
 void parseTimes(const std::string& out, ServeRender& r) {
-    static const std::regex passLine(R"(^pass (.+?) +([0-9.]+) ms)"), frameLine(R"(^frame +([0-9.]+) ms)");
+    static const std::regex passLine(R"(^pass (.+?) +([0-9.]+) ms(?: +\(([0-9.]+)\.\.)?)"),
+        frameLine(R"(^frame +([0-9.]+) ms(?: +\(([0-9.]+)\.\.)?)");
     std::istringstream in(out);
     std::smatch m;
     for (std::string line; std::getline(in, line);) {
-        if (std::regex_search(line, m, passLine)) r.passMs[m[1].str()] = std::stod(m[2].str());
-        else if (std::regex_search(line, m, frameLine)) r.frameMs = std::stod(m[1].str());
+        if (std::regex_search(line, m, passLine)) r.passMs[m[1].str()] = std::stod(m[m[3].matched ? 3 : 2].str());
+        else if (std::regex_search(line, m, frameLine)) r.frameMs = std::stod(m[m[2].matched ? 2 : 1].str());
     }
 }
 
@@ -184,7 +186,7 @@ ChildResult runChild(const fs::path& exe, const std::vector<std::string>& argv, 
     return result;
 }
 
-ServeJobs::ServeJobs(fs::path exe, fs::path work) : mExe(std::move(exe)), mWork(std::move(work)) {
+ServeJobs::ServeJobs(fs::path exe, fs::path work, std::uint32_t lightSteps) : mExe(std::move(exe)), mWork(std::move(work)), mLightSteps(lightSteps) {
     mThread = std::thread([this] { worker(); });
 }
 
@@ -259,14 +261,19 @@ void ServeJobs::worker() {
         }
         std::error_code ec;
         fs::create_directories(r->folder, ec);
-        // Every buffer after every pass, every light's steps (techniques without them: none), the
-        // pass times (--stats), a progress bar to read (--progress).
+        // Every buffer after every pass, the first lights' steps (techniques without them: none),
+        // the pass times (--stats) of two runs, of which only the second writes the dumps (the
+        // page shows the first's), and a progress bar to read (--progress).
         std::vector<std::string> argv{"render"};
         argv.insert(argv.end(), r->args.begin(), r->args.end());
-        for (const char* a : {"--dump", "", "--out", "", "--dump-after", "all", "--dump-lights", "all", "--stats", "--progress"})
-            argv.emplace_back(a);
-        argv[r->args.size() + 2] = (r->folder / "dump").string();
-        argv[r->args.size() + 4] = (r->folder / "image.png").string();
+        for (const std::string& a : {std::string("--dump"), (r->folder / "dump").string(), std::string("--out"), (r->folder / "image.png").string(),
+                                     std::string("--dump-after"), std::string("all"), std::string("--stats"), std::string("--progress"),
+                                     std::string("--warmup"), std::string("0"), std::string("--repeat"), std::string("2")})
+            argv.push_back(a);
+        if (mLightSteps > 0) {
+            argv.emplace_back("--dump-lights");
+            argv.push_back("0-" + std::to_string(mLightSteps - 1));
+        }
         const auto t0 = std::chrono::steady_clock::now();
         const ChildResult result = runChild(mExe, argv, r->folder / "stdout.txt", r->folder / "stderr.txt", &mCancelRunning);
         r->wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

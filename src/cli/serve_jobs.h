@@ -52,7 +52,8 @@ ChildResult runChild(const std::filesystem::path& exe, const std::vector<std::st
 class ServeJobs {
 public:
     // `exe`: this program; `work`: the server's folder, emptied and removed by the destructor.
-    ServeJobs(std::filesystem::path exe, std::filesystem::path work);
+    // `lightSteps`: the lights (from 0) whose deferred steps each render dumps.
+    ServeJobs(std::filesystem::path exe, std::filesystem::path work, std::uint32_t lightSteps);
     ~ServeJobs();
     ServeJobs(const ServeJobs&) = delete;
     ServeJobs& operator=(const ServeJobs&) = delete;
@@ -82,6 +83,7 @@ private:
     void finish(const std::shared_ptr<ServeRender>& render, const ChildResult& result);
 
     std::filesystem::path mExe, mWork;
+    std::uint32_t mLightSteps;
     mutable std::mutex mMutex;
     std::condition_variable mWake;
     std::map<std::uint64_t, std::shared_ptr<const ServeRender>> mRenders;  // published states, by id

@@ -396,12 +396,32 @@ TEST_CASE("cli: --dump-lights writes deferred's buffers after each step of the c
     std::ifstream in(dir / "manifest.json");
     const nlohmann::json m = nlohmann::json::parse(in);
     CHECK(m["lightSteps"]["3"]["unmark"]["folder"] == "light-3-unmark");
+    // A range keeps the lights of it the scene has (4: 0..3); `all`, every light; a technique
+    // without light steps takes either without complaint and dumps none (tessera serve asks so).
+    const auto stepsOf = [&](const std::string& technique, const std::string& lights) {
+        const fs::path d = scratch("lights-range");
+        fs::remove_all(d);
+        const Run rr = run("render default --technique " + technique + " --width 32 --height 18 --quiet --dump " + d.string() +
+                           " --dump-lights " + lights + out);
+        INFO(rr.output);
+        REQUIRE(rr.exitCode == 0);
+        std::ifstream f(d / "manifest.json");
+        const nlohmann::json manifest = nlohmann::json::parse(f);
+        std::vector<std::string> keys;
+        if (manifest.contains("lightSteps"))
+            for (const auto& [key, value] : manifest["lightSteps"].items()) keys.push_back(key);
+        return keys;
+    };
+    CHECK(stepsOf("deferred", "2-9") == std::vector<std::string>{"2", "3"});
+    CHECK(stepsOf("deferred", "all") == std::vector<std::string>{"0", "1", "2", "3"});
+    CHECK(stepsOf("forward", "all").empty());
     struct Case { std::string args, mentions; };
     const Case cases[] = {
         {"render default --technique deferred --dump " + dir.string() + " --dump-lights 99" + out, "light 99 does not exist"},
         {"render default --technique forward --dump " + dir.string() + " --dump-lights 0" + out, "does not shade light by light"},
         {"render default --technique deferred --dump-lights 0" + out, "--dump-lights needs --dump DIR"},
         {"render default --technique deferred --dump " + dir.string() + " --dump-lights 1,x" + out, "--dump-lights: 'x'"},
+        {"render default --technique deferred --dump " + dir.string() + " --dump-lights 3-1" + out, "'3-1' is an empty range"},
     };
     for (const Case& c : cases) {
         const Run e = run(c.args);

@@ -44,7 +44,7 @@ test('bad command lines exit 2 before serving, naming what is wrong', () => {
 });
 
 test('the server', async (t) => {
-  const serve = await startServe(tessera, ['default', '--technique', 'deferred', '--width', '160', '--height', '90']);
+  const serve = await startServe(tessera, ['default', '--technique', 'deferred', '--width', '160', '--height', '90', '--light-steps', '3']);
   const base = serve.url;
   const alive = async () => assert.equal((await request(base, '/api/status')).status, 200, 'the server still answers');
 
@@ -59,7 +59,16 @@ test('the server', async (t) => {
     assert.equal(r.json.manifest.technique, 'deferred');
     assert.ok(r.json.files.includes('backbuffer.png'));
     assert.ok(r.json.passMs.lights > 0, 'pass times parsed from --stats');
-    assert.ok(r.json.manifest.lightSteps, 'deferred renders dump every light step');
+    // --light-steps 3: the steps of lights 0..2 of the default scene's 4 (light 0, directional, has
+    // no stencil steps but its shade step).
+    assert.deepEqual(Object.keys(r.json.manifest.lightSteps).sort(), ['0', '1', '2']);
+    // Every pass timed, names with spaces included ("copy depth"), from the run that dumped nothing:
+    // the passes of one run fit in its frame time.
+    const names = r.json.manifest.passes.map((p) => p.name);
+    assert.ok(names.includes('copy depth'));
+    assert.deepEqual(Object.keys(r.json.passMs).sort(), [...names].sort());
+    const sum = Object.values(r.json.passMs).reduce((a, b) => a + b, 0);
+    assert.ok(sum <= r.json.frameMs * 1.001 + 0.01, `passes ${sum} ms within the frame's ${r.json.frameMs} ms`);
   });
 
   await t.test('requests in parallel: each answer is its own, probes included', async () => {

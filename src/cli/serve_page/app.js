@@ -127,7 +127,7 @@ async function loadRender(id) {
   state.render = await api(`/api/render/${id}`);
   const m = state.render.manifest;
   $('scene').textContent = `${m.scene} · ${m.technique} · ${m.width}x${m.height}`;
-  setStatus(`render ${id}: frame ${num(state.render.frameMs)} ms (with every buffer written after every pass), ${num(state.render.wallMs)} ms in all`);
+  setStatus(`render ${id}: frame ${num(state.render.frameMs)} ms (the faster of two runs, the other writing every buffer), ${num(state.render.wallMs)} ms in all`);
   document.body.dataset.render = String(id);
   fillControls();
   const list = $('passList');
@@ -574,6 +574,9 @@ function setupLightSteps() {
   slider.min = String(lights[0]);
   slider.max = String(lights[lights.length - 1]);
   slider.value = String(state.render.defaultLight !== undefined ? state.render.defaultLight : lights[0]);
+  const total = state.render.manifest.lights;
+  $('lightStepsNote').textContent = typeof total === 'number' && total > lights.length
+    ? `steps kept for lights ${lights[0]}..${lights[lights.length - 1]} of the scene's ${total} (tessera serve --light-steps N keeps more)` : '';
   showLight(Number(slider.value));
 }
 
