@@ -36,21 +36,28 @@ function probeFacts() {
   return { draws, lights, names: history.lightNames };
 }
 
+// Chromium on a page of `serve`, every console error or warning, page error, failed request and
+// error response collected into the returned `problems`; resolves once the page says it is ready.
+async function openPage(serve) {
+  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
+  const problems = [];
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1500, height: 1100 });
+  page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('requestfailed', (r) => problems.push(`request failed: ${r.url()} ${r.failure() && r.failure().errorText}`));
+  page.on('response', (r) => { if (r.status() >= 400) problems.push(`HTTP ${r.status()}: ${r.url()}`); });
+  await page.goto(serve.url);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
+  return { browser, page, problems };
+}
+
 test('the page in Chromium', async (t) => {
   const expected = probeFacts();
   assert.ok(expected.draws.size >= 2 && expected.lights.size >= 2, 'the chosen pixel is lit (the test needs draws and lights to compare)');
   const serve = await startServe(tessera, scene);
-  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
-  const problems = [];
+  const { browser, page, problems } = await openPage(serve);
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1500, height: 1100 });
-    page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`); });
-    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-    page.on('requestfailed', (r) => problems.push(`request failed: ${r.url()} ${r.failure() && r.failure().errorText}`));
-    page.on('response', (r) => { if (r.status() >= 400) problems.push(`HTTP ${r.status()}: ${r.url()}`); });
-    await page.goto(serve.url);
-    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
     await page.screenshot({ path: join(artefacts, 'serve-loaded.png'), fullPage: true });
 
     await t.test('the passes are listed with times and the buffers after each', async () => {
@@ -160,15 +167,8 @@ test('the page in Chromium', async (t) => {
 test('tiles: light counts over the image and a tile\'s list and 2.5D mask (forward-plus-amd)', async () => {
   const args = ['default', '--technique', 'forward-plus-amd', '--width', '160', '--height', '96'];
   const serve = await startServe(tessera, args);
-  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
-  const problems = [];
+  const { browser, page, problems } = await openPage(serve);
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1500, height: 1100 });
-    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
-    await page.goto(serve.url);
-    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
     const manifest = (await request(serve.url, '/api/render/1')).json.manifest;
     const grid = manifest.buffers.find((b) => b.name === 'lightgrid.opaque');
     assert.ok(grid, 'forward-plus-amd writes lightgrid.opaque');
@@ -204,12 +204,8 @@ test('tiles: light counts over the image and a tile\'s list and 2.5D mask (forwa
 
 test("Killzone 2's light steps: each light's query count and threshold, shaded exactly when the count exceeds it", async () => {
   const serve = await startServe(tessera, ['default', '--technique', 'deferred-killzone', '--width', '160', '--height', '90']);
-  const browser = await puppeteer.launch({ executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'] });
+  const { browser, page, problems } = await openPage(serve);
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1500, height: 1100 });
-    await page.goto(serve.url);
-    await page.waitForSelector('body[data-ready="true"]', { timeout: 60000 });
     const steps = (await request(serve.url, '/api/render/1')).json.manifest.lightSteps;
     const decisions = [];
     for (const light of Object.keys(steps).filter((l) => steps[l].count)) {
@@ -224,6 +220,7 @@ test("Killzone 2's light steps: each light's query count and threshold, shaded e
     }
     // The default scene has both kinds: lights whose volume holds the eye mark nothing (skipped).
     assert.ok(decisions.includes(true) && decisions.includes(false), `shaded and skipped lights: ${decisions}`);
+    assert.deepEqual(problems, []);
   } finally {
     await browser.close();
     assert.equal((await serve.stop()).code, 0);

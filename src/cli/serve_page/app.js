@@ -99,6 +99,7 @@ async function submitRender(event) {
     technique: $('technique').value, width: Number($('width').value), height: Number($('height').value),
     msaa: Number($('msaa').value), precision: $('precision').value, options,
   };
+  if ($('lights').value !== '') body.lights = Number($('lights').value);
   try {
     const { id } = await api('/api/render', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
     await waitFor(id);
