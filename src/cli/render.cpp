@@ -16,6 +16,8 @@
 
 #include <tbb/task_arena.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <tessera/frame/memory_limit.h>
 #include <tessera/scene/camera.h>
 #include <tessera/scene/default_lights.h>
@@ -280,6 +282,51 @@ void aimCameraArgs(const RenderOptions& o, const tessera::Scene& scene, tessera:
     camera.orientationWorld = look.orientationWorld;
 }
 
+// Each light's reach on screen, for pictures drawn over the image (tessera serve): the window-px
+// rectangle [x0, y0, x1, y1] bounding its range sphere (a spot's cone lies inside it), through the
+// camera's D3D projection (glm perspectiveRH_ZO / orthoRH_ZO); null where the sphere crosses the
+// near plane or the light has no range (it may cover the whole screen), empty ([0, 0, 0, 0]) when
+// it lies off screen. Display only: no technique reads it.
+nlohmann::json lightExtents(const tessera::Scene& scene, const tessera::Camera& camera, std::uint32_t width, std::uint32_t height) {
+    const float aspect = camera.aspect > 0.0f ? camera.aspect : float(width) / float(height);
+    const float farZ = std::isfinite(camera.farZ) ? camera.farZ : camera.nearZ * 1.0e6f;
+    const glm::mat4 clipFromView = camera.projection == tessera::ProjectionKind::Perspective
+                                       ? glm::perspectiveRH_ZO(glm::radians(camera.fovYDeg), aspect, camera.nearZ, farZ)
+                                       : glm::orthoRH_ZO(-camera.xMag, camera.xMag, -camera.yMag, camera.yMag, camera.nearZ, farZ);
+    const glm::mat4 viewFromWorld = camera.viewFromWorld();
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+        const tessera::Light& l = scene.lights[i];
+        nlohmann::json e{{"light", i}, {"name", l.name}, {"type", std::string(l.type == tessera::LightType::Point ? "point"
+                                                                             : l.type == tessera::LightType::Spot ? "spot"
+                                                                             : l.type == tessera::LightType::Directional ? "directional" : "capsule")},
+                         {"rectWindow", nullptr}};
+        const float r = l.range + (l.type == tessera::LightType::Capsule ? l.length : 0.0f);
+        if (l.type != tessera::LightType::Directional && std::isfinite(r)) {
+            const glm::vec3 centreView = glm::vec3(viewFromWorld * glm::vec4(l.positionWorld, 1.0f));
+            if (centreView.z + r < -camera.nearZ) {  // the sphere's view-space box lies beyond the near plane
+                float x0 = float(width), y0 = float(height), x1 = 0.0f, y1 = 0.0f;
+                for (int corner = 0; corner < 8; ++corner) {
+                    const glm::vec3 p = centreView + glm::vec3(corner & 1 ? r : -r, corner & 2 ? r : -r, corner & 4 ? r : -r);
+                    const glm::vec4 clip = clipFromView * glm::vec4(p, 1.0f);
+                    const float x = (clip.x / clip.w * 0.5f + 0.5f) * float(width), y = (0.5f - clip.y / clip.w * 0.5f) * float(height);
+                    x0 = std::min(x0, x);
+                    x1 = std::max(x1, x);
+                    y0 = std::min(y0, y);
+                    y1 = std::max(y1, y);
+                }
+                x0 = std::clamp(x0, 0.0f, float(width));
+                x1 = std::clamp(x1, 0.0f, float(width));
+                y0 = std::clamp(y0, 0.0f, float(height));
+                y1 = std::clamp(y1, 0.0f, float(height));
+                e["rectWindow"] = x1 > x0 && y1 > y0 ? nlohmann::json{x0, y0, x1, y1} : nlohmann::json{0, 0, 0, 0};
+            }
+        }
+        out.push_back(e);
+    }
+    return out;
+}
+
 tessera::SceneDescription describeForRender(RenderOptions& o, const fs::path& sceneFile) {
     tessera::SceneDescription desc = describe(sceneFile);
     if (!o.technique.empty() && o.technique != desc.technique) {
@@ -431,6 +478,7 @@ nlohmann::json sceneManifest(const tessera::Frame& frame, const FrameRuns& runs,
     manifest["msaa"] = o.msaa;
     manifest["options"] = desc.techniqueOptions.is_null() ? nlohmann::json::object() : desc.techniqueOptions;
     manifest["lights"] = scene.lights.size();
+    manifest["lightExtents"] = lightExtents(scene, camera, desc.width, desc.height);
     nlohmann::json noteList = nlohmann::json::array();
     for (const tessera::FrameNote& n : notes.list())
         noteList.push_back({{"kind", n.kind}, {"count", n.count}, {"what", n.what}, {"erratum", n.erratum},

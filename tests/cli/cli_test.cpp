@@ -709,6 +709,51 @@ TEST_CASE("cli: probe prints the material the shader sampled, from which its out
     CHECK(text.output.find("material diffuse [") != std::string::npos);
 }
 
+TEST_CASE("cli: --dump's lightExtents bound on screen every pixel each light lit, and are null where a light holds the eye") {
+    // From z = 20 the default scene's point lights (range 6) lie in front of the near plane: each
+    // gets a rectangle narrower than the frame; a pixel a light lit (its probe term is not 'none')
+    // must lie inside that light's rectangle. From the scene's own camera the point and spot lights'
+    // spheres hold the eye: null (they may cover the whole screen).
+    const std::string camera = " --width 160 --height 90 --camera-position 0,2,20 --camera-target 0,0.8,0";
+    const std::filesystem::path dir = scratch("extents");
+    std::filesystem::remove_all(dir);
+    REQUIRE(run("render default --quiet --dump " + dir.string() + " -o " + scratch("extents.png").string() + camera).exitCode == 0);
+    std::ifstream in(dir / "manifest.json");
+    const nlohmann::json extents = nlohmann::json::parse(in)["lightExtents"];
+    REQUIRE(extents.size() == 4);
+    CHECK(extents[0]["rectWindow"].is_null());  // directional: no range
+    for (int l : {1, 2}) {
+        REQUIRE(extents[l]["rectWindow"].is_array());
+        CHECK(extents[l]["rectWindow"][2].get<double>() - extents[l]["rectWindow"][0].get<double>() < 160.0);
+    }
+    int checked = 0;
+    for (int x : {60, 100}) {  // the two wall pixels of row 45 (the scene is small from z = 20)
+        const Run r = run("probe default " + std::to_string(x) + " 45 --json" + camera);
+        REQUIRE(r.exitCode == 0);
+        const nlohmann::json history = nlohmann::json::parse(r.output);  // named: a temporary's ["events"] would dangle
+        for (const auto& e : history["events"])
+            for (const auto& t : e.value("lights", nlohmann::json::array())) {
+                if (t.contains("none") || !t["light"].is_number()) continue;
+                const nlohmann::json& rect = extents[t["light"].get<std::size_t>()]["rectWindow"];
+                if (rect.is_null()) continue;
+                CAPTURE(x);
+                CAPTURE(t["light"]);
+                CHECK(rect[0].get<double>() <= x + 0.5);
+                CHECK(x + 0.5 <= rect[2].get<double>());
+                CHECK(rect[1].get<double>() <= 45.5);
+                CHECK(45.5 <= rect[3].get<double>());
+                ++checked;
+            }
+    }
+    CHECK(checked >= 3);  // lights 1 and 3 at x 60, light 2 at x 100
+    const std::filesystem::path own = scratch("extents-own");
+    std::filesystem::remove_all(own);
+    REQUIRE(run("render default --quiet --width 64 --height 36 --dump " + own.string() + " -o " + scratch("extents-own.png").string()).exitCode == 0);
+    std::ifstream ownIn(own / "manifest.json");
+    const nlohmann::json ownManifest = nlohmann::json::parse(ownIn);
+    for (const auto& e : ownManifest["lightExtents"]) CHECK(e["rectWindow"].is_null());
+}
+
 TEST_CASE("cli: renders that would pass the memory limit are refused before allocating, with exit 2 and nothing written") {
     const auto out = scratch("too-big.png");
     std::filesystem::remove(out);

@@ -145,6 +145,7 @@ async function loadRender(id) {
   $('frameTime').textContent = `frame ${num(state.render.frameMs)} ms`;
   const last = m.passes.length ? m.passes[m.passes.length - 1].name : null;
   state.picked = null;
+  state.probeLights = [];
   $('historyBody').replaceChildren();
   await selectPass(last);
   setupLightSteps();
@@ -481,6 +482,23 @@ function drawOverlay() {
     const s = tile.tileSizePx * state.zoom;
     ctx.strokeRect(state.panX + tile.tile[0] * s + 0.5, state.panY + tile.tile[1] * s + 0.5, s, s);
   }
+  // The reach of the lights that lit the pixel (or, tiled, those in its tile's list): each light's
+  // range sphere bounded on screen (the manifest's lightExtents), dashed, with its name.
+  const extents = state.render.manifest.lightExtents || [];
+  for (const index of state.probeLights || []) {
+    const e = extents[index];
+    if (!e || !e.rectWindow) continue;
+    const [x0, y0, x1, y1] = e.rectWindow;
+    if (x1 <= x0 || y1 <= y0) continue;
+    ctx.setLineDash([6, 4]);
+    ctx.strokeStyle = '#ffd060';
+    ctx.lineWidth = 1;
+    ctx.strokeRect(state.panX + x0 * state.zoom, state.panY + y0 * state.zoom, (x1 - x0) * state.zoom, (y1 - y0) * state.zoom);
+    ctx.setLineDash([]);
+    ctx.fillStyle = '#ffd060';
+    ctx.font = '12px system-ui';
+    ctx.fillText(`${e.light} ${e.name}`, state.panX + x0 * state.zoom + 3, state.panY + y0 * state.zoom + 13);
+  }
   ctx.strokeStyle = '#ff5050';
   ctx.lineWidth = 2;
   ctx.strokeRect(state.panX + x * state.zoom - 2, state.panY + y * state.zoom - 2, Math.max(state.zoom, 1) + 4, Math.max(state.zoom, 1) + 4);
@@ -536,6 +554,10 @@ async function probe(x, y) {
     const history = await api(`/api/probe/${state.render.id}?x=${x}&y=${y}`);
     state.probe = history;
     const names = history.lightNames || [];
+    const lit = new Set(history.tile ? history.tile.lights : []);
+    for (const e of history.events) for (const t of e.lights || []) if (!t.none && typeof t.light === 'number') lit.add(t.light);
+    state.probeLights = [...lit].sort((a, b) => a - b);
+    $('overlay').dataset.extents = state.probeLights.filter((i) => ((state.render.manifest.lightExtents || [])[i] || {}).rectWindow).join(',');
     const body = $('historyBody');
     body.replaceChildren();
     body.dataset.pixel = `${x},${y}`;
