@@ -226,3 +226,26 @@ test("Killzone 2's light steps: each light's query count and threshold, shaded e
     assert.equal((await serve.stop()).code, 0);
   }
 });
+
+test("Forward+'s tile planes drawn along the clicked pixel's tile edges", async () => {
+  // 160x96, 16 px tiles: pixel (80, 50) is in tile (5, 3), whose edges are x = 80, 96 and y = 48, 64.
+  // The 3dgep planes (left, right, top, bottom) pass through the eye and those edges, so each cuts
+  // the image along one edge: within half a pixel (binary32 planes, the page's double arithmetic).
+  const serve = await startServe(tessera, ['default', '--technique', 'forward-plus', '--width', '160', '--height', '96']);
+  const { browser, page, problems } = await openPage(serve);
+  try {
+    const where = await page.$eval('#overlay', (c) => ({ ...c.dataset, rect: c.getBoundingClientRect().toJSON() }));
+    await page.mouse.click(where.rect.left + Number(where.panX) + 80.5 * Number(where.zoom), where.rect.top + Number(where.panY) + 50.5 * Number(where.zoom));
+    await page.waitForSelector('#historyBody[data-pixel="80,50"]', { timeout: 120000 });
+    const lines = JSON.parse(await page.$eval('#overlay', (c) => c.dataset.planeLines));
+    assert.equal(lines.length, 4);
+    const near = (a, b) => Math.abs(a - b) <= 0.5;
+    const [left, right, top, bottom] = lines;
+    for (const [line, x] of [[left, 80], [right, 96]]) assert.ok(near(line[0], x) && near(line[2], x), `vertical line ${line} at x = ${x}`);
+    for (const [line, y] of [[top, 48], [bottom, 64]]) assert.ok(near(line[1], y) && near(line[3], y), `horizontal line ${line} at y = ${y}`);
+    assert.deepEqual(problems, []);
+  } finally {
+    await browser.close();
+    assert.equal((await serve.stop()).code, 0);
+  }
+});

@@ -499,9 +499,38 @@ function drawOverlay() {
     ctx.font = '12px system-ui';
     ctx.fillText(`${e.light} ${e.name}`, state.panX + x0 * state.zoom + 3, state.panY + y0 * state.zoom + 13);
   }
+  drawTilePlanes(ctx, tile);
   ctx.strokeStyle = '#ff5050';
   ctx.lineWidth = 2;
   ctx.strokeRect(state.panX + x * state.zoom - 2, state.panY + y * state.zoom - 2, Math.max(state.zoom, 1) + 4, Math.max(state.zoom, 1) + 4);
+}
+
+// The tile's frustum side planes as the lines where they cut the image: each plane (N, d) passes
+// through the eye, so a view ray (x_ndc tan(fovX/2), y_ndc tan(fovY/2), -1) lies in it where
+// N.x x_ndc tanX + N.y y_ndc tanY - N.z = 0. The 3dgep planes run along the tile's edges; the Intel
+// 2010 sample's (ERRATA.md #12) enclose the 2x2 tiles around it. Perspective cameras only.
+function drawTilePlanes(ctx, tile) {
+  const camera = state.render.manifest.camera || {};
+  const lines = [];
+  if (tile && tile.frustumPlanes && camera.projection === 'perspective') {
+    const { width, height } = state.render.manifest;
+    const tanY = Math.tan((camera.fovYDeg * Math.PI) / 360), tanX = tanY * (width / height);
+    const toWindow = (xn, yn) => [(xn * 0.5 + 0.5) * width, (0.5 - yn * 0.5) * height];
+    for (const [nx, ny, nz] of tile.frustumPlanes) {
+      const a = nx * tanX, b = ny * tanY;
+      if (Math.abs(a) >= Math.abs(b) && a !== 0) lines.push([toWindow((nz - b * 1) / a, 1), toWindow((nz + b) / a, -1)]);
+      else if (b !== 0) lines.push([toWindow(-1, (nz + a) / b), toWindow(1, (nz - a) / b)]);
+    }
+    ctx.strokeStyle = '#60e0ff';
+    ctx.lineWidth = 1;
+    for (const [[x0, y0], [x1, y1]] of lines) {
+      ctx.beginPath();
+      ctx.moveTo(state.panX + x0 * state.zoom, state.panY + y0 * state.zoom);
+      ctx.lineTo(state.panX + x1 * state.zoom, state.panY + y1 * state.zoom);
+      ctx.stroke();
+    }
+  }
+  $('overlay').dataset.planeLines = JSON.stringify(lines.map((l) => l.flat().map((v) => Number(v.toFixed(3)))));
 }
 
 // ---- a pixel's history ------------------------------------------------------------------------
