@@ -9,7 +9,6 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <string>
 #include <string_view>
@@ -237,10 +236,8 @@ void addRoutes(httplib::Server& server, ServeJobs& jobs, const std::vector<std::
         if (!r) return;
         const std::string file = req.matches[2];
         if (!r->files.count(file)) return sendError(res, 404, "render " + std::to_string(r->id) + " wrote no file '" + file + "'");
-        std::ifstream in(r->folder / "dump" / file, std::ios::binary);
-        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         res.set_header("Cache-Control", "max-age=3600");
-        res.set_content(bytes, contentType(file));
+        res.set_content(readText(r->folder / "dump" / file), contentType(file));
     });
     server.Get(R"(/api/texels/([^/]+)/(.+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
         const auto r = requireRender(jobs, req.matches[1], res);
@@ -266,10 +263,10 @@ void addRoutes(httplib::Server& server, ServeJobs& jobs, const std::vector<std::
     });
     server.Get(R"(/api/diffmap/([0-9]+)/([0-9]+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
         const auto a = parseId(req.matches[1], ~std::uint64_t(0)), b = parseId(req.matches[2], ~std::uint64_t(0));
-        std::ifstream in(a && b ? jobs.diffHeatmap(*a, *b) : fs::path(), std::ios::binary);
-        if (!a || !b || !in) return sendError(res, 404, "no comparison of renders " + std::string(req.matches[1]) + " and " + std::string(req.matches[2]) + " (GET /api/diff/A/B first)");
-        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        res.set_content(bytes, "image/png");
+        if (!a || !b || !fs::is_regular_file(jobs.diffHeatmap(*a, *b)))
+            return sendError(res, 404, "no comparison of renders " + std::string(req.matches[1]) + " and " + std::string(req.matches[2]) +
+                                           " (GET /api/diff/A/B first)");
+        res.set_content(readText(jobs.diffHeatmap(*a, *b)), "image/png");
     });
     server.Get(R"(/api/probe/([^/]+))", [&jobs](const httplib::Request& req, httplib::Response& res) {
         const auto r = requireRender(jobs, req.matches[1], res);

@@ -29,14 +29,14 @@ namespace tessera::cli {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string readText(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
 }
+
+namespace {
 
 // The child's error lines ("tessera: ..."), without the progress bar's carriage-return frames.
 std::string errorLines(const std::string& err) {
@@ -345,21 +345,22 @@ std::shared_ptr<const ServeRender> ServeJobs::latestDone() const {
     return it == mRenders.end() ? nullptr : it->second;
 }
 
-ChildResult ServeJobs::probe(const ServeRender& render, std::uint32_t x, std::uint32_t y) {
-    const std::lock_guard<std::mutex> lock(mProbeMutex);
-    std::vector<std::string> argv{"probe"};
-    argv.push_back(render.args.at(0));
-    argv.push_back(std::to_string(x));
-    argv.push_back(std::to_string(y));
-    argv.insert(argv.end(), render.args.begin() + 1, render.args.end());
-    argv.emplace_back("--json");
-    const std::string base = "probe-" + std::to_string(++mProbeCount);
-    ChildResult result = runChild(mExe, argv, mWork / (base + ".out"), mWork / (base + ".err"), nullptr);
+ChildResult ServeJobs::runTool(const std::vector<std::string>& argv, const std::string& base) {
+    const fs::path out = mWork / (base + ".out"), err = mWork / (base + ".err");
+    ChildResult result = runChild(mExe, argv, out, err, nullptr);
     std::error_code ec;
-    fs::remove(mWork / (base + ".out"), ec);
-    fs::remove(mWork / (base + ".err"), ec);
+    fs::remove(out, ec);
+    fs::remove(err, ec);
     result.err = errorLines(result.err);
     return result;
+}
+
+ChildResult ServeJobs::probe(const ServeRender& render, std::uint32_t x, std::uint32_t y) {
+    const std::lock_guard<std::mutex> lock(mProbeMutex);
+    std::vector<std::string> argv{"probe", render.args.at(0), std::to_string(x), std::to_string(y)};
+    argv.insert(argv.end(), render.args.begin() + 1, render.args.end());
+    argv.emplace_back("--json");
+    return runTool(argv, "probe-" + std::to_string(++mProbeCount));
 }
 
 fs::path ServeJobs::diffHeatmap(std::uint64_t a, std::uint64_t b) const {
@@ -368,15 +369,9 @@ fs::path ServeJobs::diffHeatmap(std::uint64_t a, std::uint64_t b) const {
 
 ChildResult ServeJobs::diff(const ServeRender& a, const ServeRender& b) {
     const std::lock_guard<std::mutex> lock(mDiffMutex);
-    const std::vector<std::string> argv{"diff", (a.folder / "dump" / "backbuffer.png").string(), (b.folder / "dump" / "backbuffer.png").string(),
-                                        "--json", "--heatmap", diffHeatmap(a.id, b.id).string()};
-    const fs::path out = mWork / "diff.out", err = mWork / "diff.err";
-    ChildResult result = runChild(mExe, argv, out, err, nullptr);
-    std::error_code ec;
-    fs::remove(out, ec);
-    fs::remove(err, ec);
-    result.err = errorLines(result.err);
-    return result;
+    return runTool({"diff", (a.folder / "dump" / "backbuffer.png").string(), (b.folder / "dump" / "backbuffer.png").string(), "--json",
+                    "--heatmap", diffHeatmap(a.id, b.id).string()},
+                   "diff");
 }
 
 } // namespace tessera::cli

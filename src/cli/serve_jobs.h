@@ -44,6 +44,9 @@ struct ChildResult {
     std::string out, err;
 };
 
+// A file's bytes ("" when it cannot be read).
+std::string readText(const std::filesystem::path& file);
+
 // Runs `exe` with `argv` (argv[0] excluded), stdout and stderr into the two files; polls `cancel`
 // and ends the child (SIGTERM, then SIGKILL after 2 s) when it becomes true.
 ChildResult runChild(const std::filesystem::path& exe, const std::vector<std::string>& argv, const std::filesystem::path& outFile,
@@ -80,6 +83,9 @@ public:
 
 private:
     void worker();
+    // A short child of this program (probe, diff): its output files under `base` in the work
+    // folder, removed after reading; the error text reduced to its lines.
+    ChildResult runTool(const std::vector<std::string>& argv, const std::string& base);
     void finish(const std::shared_ptr<ServeRender>& render, const ChildResult& result);
 
     std::filesystem::path mExe, mWork;
